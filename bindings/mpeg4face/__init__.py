@@ -1,0 +1,93 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""MPEG-4 Face Animation toolkit.
+
+The MPEG-4 face animation tables (FAPs, feature points, FAPU, FAP groups, visemes,
+expressions), a face model (a scene graph of meshes with morph targets and feature-point
+bindings, numpy arrays in and out), readers for glTF, OBJ, CANDIDE .wfm and feature-point
+CSV, a glTF writer, and FAPU measurement. Everything is implemented in C++ (mpeg4face._core);
+errors in input files raise mpeg4face.Error, a ValueError naming the file, line and field.
+
+    >>> import mpeg4face
+    >>> mpeg4face.fap(3).name
+    'open_jaw'
+"""
+
+from __future__ import annotations
+
+try:
+    from . import _core
+except ImportError as _error:  # pragma: no cover - depends on the build
+    import glob as _glob
+    import importlib.machinery as _machinery
+    import os as _os
+
+    _here = _os.path.dirname(_os.path.abspath(__file__))
+    _found = sorted(_glob.glob(_os.path.join(_here, "_core*")))
+    _found = [f for f in _found if not f.endswith(".pyi")]
+    if _found:
+        _what = f"found {', '.join(_found)} but it could not be loaded"
+    else:
+        _what = (
+            f"looked for {_os.path.join(_here, '_core' + _machinery.EXTENSION_SUFFIXES[0])} "
+            "and found no _core extension module"
+        )
+    raise ImportError(
+        f"mpeg4face: the native module mpeg4face._core is missing: {_what} ({_error}). "
+        "Build it with scripts/build.sh (or cmake -S . -B build "
+        "-DPython_EXECUTABLE=/usr/bin/python3 && cmake --build build) and put build/python on "
+        "PYTHONPATH; it must be built for this interpreter (Python "
+        f"{'.'.join(map(str, __import__('sys').version_info[:2]))})."
+    ) from _error
+
+from ._core import *  # noqa: F401,F403  (the names are listed in __all__)
+
+__version__: str = _core.__version__
+
+__all__ = [
+    # errors
+    "Error",
+    # tables (spec)
+    "FAP_COUNT",
+    "FEATURE_POINT_COUNT",
+    "ANGLE_UNIT",
+    "FAPU_DIVISOR",
+    "FapInfo",
+    "FeaturePointInfo",
+    "FapuInfo",
+    "FapGroupInfo",
+    "VisemeInfo",
+    "ExpressionInfo",
+    "faps",
+    "fap",
+    "fap_number",
+    "feature_points",
+    "feature_point",
+    "fapu_table",
+    "fap_groups",
+    "visemes",
+    "expressions",
+    # face model
+    "MorphTarget",
+    "IndexedFaceSet",
+    "Transform",
+    "FeaturePointBinding",
+    "MorphWeightChannel",
+    "MorphWeightAnimation",
+    "FaceModel",
+    # files
+    "CandideUnit",
+    "CandideModel",
+    "read_model",
+    "read_gltf",
+    "write_gltf",
+    "read_obj",
+    "read_wfm",
+    "candide_to_face_model",
+    "read_feature_point_csv",
+    # FAPU
+    "FapuDistance",
+    "FapuMeasurement",
+    "ConstraintWarning",
+    "measure_fapu",
+    "check_location_constraints",
+]

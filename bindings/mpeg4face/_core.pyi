@@ -1,0 +1,405 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Type hints for mpeg4face._core, the pybind11 module behind the mpeg4face package."""
+
+import enum
+import os
+from typing import Iterable, Mapping, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Path = str | os.PathLike[str]
+_Float64 = npt.NDArray[np.float64]
+_Int32 = npt.NDArray[np.int32]
+# Anything numpy.asarray turns into numbers of the expected shape.
+_ArrayLike = npt.ArrayLike
+
+class Error(ValueError):
+    """An error of the mpeg4face library; attributes are None when they do not apply."""
+
+    file: str | None
+    line: int | None
+    field: str | None
+    reason: str
+    def __init__(
+        self,
+        message: str = "",
+        file: str | None = None,
+        line: int | None = None,
+        field: str | None = None,
+        reason: str | None = None,
+    ) -> None: ...
+
+# --- Tables ---------------------------------------------------------------------------------
+
+FAP_COUNT: int  # 68
+FEATURE_POINT_COUNT: int  # 84 (the table also holds 7.2)
+ANGLE_UNIT: float  # 1e-5 rad
+FAPU_DIVISOR: float  # 1024.0
+
+class FapInfo:
+    @property
+    def number(self) -> int: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def bifs_name(self) -> str: ...
+    @property
+    def fapu(self) -> str | None: ...
+    @property
+    def bidirectional(self) -> bool: ...
+    @property
+    def positive_motion(self) -> str: ...
+    @property
+    def group(self) -> int: ...
+    @property
+    def feature_point(self) -> str: ...
+    @property
+    def quant_step(self) -> int: ...
+    @property
+    def intra_range(self) -> int: ...
+    @property
+    def inter_range(self) -> int: ...
+
+class FeaturePointInfo:
+    @property
+    def id(self) -> str: ...
+    @property
+    def group(self) -> int: ...
+    @property
+    def index(self) -> int: ...
+    @property
+    def description(self) -> str: ...
+    @property
+    def constraint_x(self) -> str: ...
+    @property
+    def constraint_y(self) -> str: ...
+    @property
+    def constraint_z(self) -> str: ...
+    @property
+    def constraint_note(self) -> str: ...
+    @property
+    def in_standard(self) -> bool: ...
+
+class FapuInfo:
+    @property
+    def name(self) -> str: ...
+    @property
+    def neutral_name(self) -> str: ...
+    @property
+    def description(self) -> str: ...
+    @property
+    def definition(self) -> str: ...
+
+class FapGroupInfo:
+    @property
+    def number(self) -> int: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def first_fap(self) -> int: ...
+    @property
+    def last_fap(self) -> int: ...
+
+class VisemeInfo:
+    @property
+    def number(self) -> int: ...
+    @property
+    def phonemes(self) -> str: ...
+    @property
+    def example(self) -> str: ...
+
+class ExpressionInfo:
+    @property
+    def number(self) -> int: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def description(self) -> str: ...
+
+def faps() -> list[FapInfo]: ...
+def fap(number: int) -> FapInfo: ...
+def fap_number(name: str) -> int | None: ...
+def feature_points() -> list[FeaturePointInfo]: ...
+def feature_point(id: str) -> FeaturePointInfo | None: ...
+def fapu_table() -> list[FapuInfo]: ...
+def fap_groups() -> list[FapGroupInfo]: ...
+def visemes() -> list[VisemeInfo]: ...
+def expressions() -> list[ExpressionInfo]: ...
+
+# --- Face model -----------------------------------------------------------------------------
+# Array properties return the stored array (in-place edits change the object); assigning
+# copies and converts any numeric dtype, and raises ValueError for a wrong shape. List and
+# dict properties return the stored list/dict itself.
+
+class MorphTarget:
+    name: str
+    @property
+    def displacements(self) -> _Float64: ...  # (N, 3)
+    @displacements.setter
+    def displacements(self, value: _ArrayLike) -> None: ...
+    def __init__(self, name: str = "", displacements: _ArrayLike | None = None) -> None: ...
+
+class IndexedFaceSet:
+    name: str
+    @property
+    def coord(self) -> _Float64: ...  # (N, 3)
+    @coord.setter
+    def coord(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def coord_index(self) -> _Int32: ...  # (K,), -1 after each face
+    @coord_index.setter
+    def coord_index(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def normal(self) -> _Float64: ...  # (N, 3) or (0, 3)
+    @normal.setter
+    def normal(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def tex_coord(self) -> _Float64: ...  # (M, 2) or (0, 2)
+    @tex_coord.setter
+    def tex_coord(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def tex_coord_index(self) -> _Int32: ...  # like coord_index, or empty
+    @tex_coord_index.setter
+    def tex_coord_index(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def morph_targets(self) -> list[MorphTarget]: ...
+    @morph_targets.setter
+    def morph_targets(self, value: Iterable[MorphTarget] | None) -> None: ...
+    @property
+    def weights(self) -> _Float64: ...  # (T,) or (0,)
+    @weights.setter
+    def weights(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def source_index(self) -> _Int32: ...  # (N,) or (0,)
+    @source_index.setter
+    def source_index(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def vertex_count(self) -> int: ...
+    @property
+    def face_count(self) -> int: ...
+    def triangles(self) -> _Int32: ...  # (T, 3)
+    def __init__(
+        self,
+        name: str = "",
+        coord: _ArrayLike | None = None,
+        coord_index: _ArrayLike | None = None,
+        *,
+        normal: _ArrayLike | None = None,
+        tex_coord: _ArrayLike | None = None,
+        tex_coord_index: _ArrayLike | None = None,
+        morph_targets: Iterable[MorphTarget] | None = None,
+        weights: _ArrayLike | None = None,
+        source_index: _ArrayLike | None = None,
+    ) -> None: ...
+
+class Transform:
+    name: str
+    @property
+    def translation(self) -> _Float64: ...  # (3,)
+    @translation.setter
+    def translation(self, value: _ArrayLike) -> None: ...
+    @property
+    def rotation(self) -> _Float64: ...  # (4,) quaternion x, y, z, w
+    @rotation.setter
+    def rotation(self, value: _ArrayLike) -> None: ...
+    @property
+    def scale(self) -> _Float64: ...  # (3,)
+    @scale.setter
+    def scale(self, value: _ArrayLike) -> None: ...
+    @property
+    def center(self) -> _Float64: ...  # (3,)
+    @center.setter
+    def center(self, value: _ArrayLike) -> None: ...
+    @property
+    def children(self) -> list[int]: ...
+    @children.setter
+    def children(self, value: Iterable[int] | None) -> None: ...
+    @property
+    def meshes(self) -> list[int]: ...
+    @meshes.setter
+    def meshes(self, value: Iterable[int] | None) -> None: ...
+    def local_matrix(self) -> _Float64: ...  # (4, 4)
+    def __init__(
+        self,
+        name: str = "",
+        *,
+        translation: _ArrayLike | None = None,
+        rotation: _ArrayLike | None = None,
+        scale: _ArrayLike | None = None,
+        center: _ArrayLike | None = None,
+        children: Iterable[int] | None = None,
+        meshes: Iterable[int] | None = None,
+    ) -> None: ...
+
+class FeaturePointBinding:
+    mesh: int
+    vertex: int
+    @property
+    def position(self) -> _Float64: ...  # (3,)
+    @position.setter
+    def position(self, value: _ArrayLike) -> None: ...
+    def __init__(self, mesh: int = -1, vertex: int = -1, position: _ArrayLike | None = None) -> None: ...
+
+class MorphWeightChannel:
+    class Interpolation(enum.Enum):
+        LINEAR = 0
+        STEP = 1
+        CUBICSPLINE = 2
+    mesh: int
+    interpolation: Interpolation
+    @property
+    def times(self) -> _Float64: ...
+    @times.setter
+    def times(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def weights(self) -> _Float64: ...
+    @weights.setter
+    def weights(self, value: _ArrayLike | None) -> None: ...
+    def __init__(
+        self,
+        mesh: int = 0,
+        interpolation: Interpolation = ...,
+        times: _ArrayLike | None = None,
+        weights: _ArrayLike | None = None,
+    ) -> None: ...
+
+class MorphWeightAnimation:
+    name: str
+    @property
+    def channels(self) -> list[MorphWeightChannel]: ...
+    @channels.setter
+    def channels(self, value: Iterable[MorphWeightChannel] | None) -> None: ...
+    def __init__(self, name: str = "", channels: Iterable[MorphWeightChannel] | None = None) -> None: ...
+
+class FaceModel:
+    @property
+    def meshes(self) -> list[IndexedFaceSet]: ...
+    @meshes.setter
+    def meshes(self, value: Iterable[IndexedFaceSet] | None) -> None: ...
+    @property
+    def transforms(self) -> list[Transform]: ...
+    @transforms.setter
+    def transforms(self, value: Iterable[Transform] | None) -> None: ...
+    @property
+    def roots(self) -> list[int]: ...
+    @roots.setter
+    def roots(self, value: Iterable[int] | None) -> None: ...
+    @property
+    def feature_points(self) -> dict[str, FeaturePointBinding]: ...
+    @feature_points.setter
+    def feature_points(self, value: Mapping[str, FeaturePointBinding] | None) -> None: ...
+    @property
+    def animations(self) -> list[MorphWeightAnimation]: ...
+    @animations.setter
+    def animations(self, value: Iterable[MorphWeightAnimation] | None) -> None: ...
+    def __init__(
+        self,
+        *,
+        meshes: Iterable[IndexedFaceSet] | None = None,
+        transforms: Iterable[Transform] | None = None,
+        roots: Iterable[int] | None = None,
+        feature_points: Mapping[str, FeaturePointBinding] | None = None,
+        animations: Iterable[MorphWeightAnimation] | None = None,
+    ) -> None: ...
+    def find_mesh(self, name: str) -> int | None: ...
+    def find_transform(self, name: str) -> int | None: ...
+    def feature_point_position(self, id: str) -> _Float64 | None: ...  # (3,)
+    def mesh_world_matrices(self) -> _Float64: ...  # (M, 4, 4)
+    def add_mesh_with_transform(self, mesh: IndexedFaceSet) -> int: ...
+    def validate(self) -> None: ...
+
+# --- Files ----------------------------------------------------------------------------------
+
+class CandideUnit:
+    name: str
+    fap: int
+    fapu: str
+    @property
+    def vertices(self) -> _Int32: ...
+    @vertices.setter
+    def vertices(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def displacements(self) -> _Float64: ...  # (len(vertices), 3)
+    @displacements.setter
+    def displacements(self, value: _ArrayLike | None) -> None: ...
+    def __init__(
+        self,
+        name: str = "",
+        fap: int = 0,
+        fapu: str = "",
+        vertices: _ArrayLike | None = None,
+        displacements: _ArrayLike | None = None,
+    ) -> None: ...
+
+class CandideModel:
+    model: FaceModel
+    @property
+    def animation_units(self) -> list[CandideUnit]: ...
+    @animation_units.setter
+    def animation_units(self, value: Iterable[CandideUnit] | None) -> None: ...
+    @property
+    def shape_units(self) -> list[CandideUnit]: ...
+    @shape_units.setter
+    def shape_units(self, value: Iterable[CandideUnit] | None) -> None: ...
+    def __init__(
+        self,
+        model: FaceModel | None = None,
+        animation_units: Iterable[CandideUnit] | None = None,
+        shape_units: Iterable[CandideUnit] | None = None,
+    ) -> None: ...
+
+def read_model(path: _Path) -> FaceModel: ...
+def read_gltf(path: _Path) -> FaceModel: ...
+def write_gltf(model: FaceModel, path: _Path) -> None: ...
+def read_obj(path: _Path) -> FaceModel: ...
+def read_wfm(path: _Path) -> CandideModel: ...
+def candide_to_face_model(candide: CandideModel) -> FaceModel: ...
+def read_feature_point_csv(
+    path: _Path, model: FaceModel
+) -> tuple[dict[str, FeaturePointBinding], list[str]]: ...
+
+# --- FAPU -----------------------------------------------------------------------------------
+
+class FapuDistance:
+    measured: bool
+    value: float
+    @property
+    def points_used(self) -> tuple[str, ...]: ...
+    @points_used.setter
+    def points_used(self, value: Sequence[str]) -> None: ...
+    method: str
+    def __init__(
+        self,
+        measured: bool = False,
+        value: float = 0.0,
+        points_used: Sequence[str] = ...,
+        method: str = "",
+    ) -> None: ...
+
+class FapuMeasurement:
+    es0: FapuDistance
+    irisd0: FapuDistance
+    ens0: FapuDistance
+    mns0: FapuDistance
+    mw0: FapuDistance
+    def __init__(self) -> None: ...
+    def unit(self, fapu: str) -> float: ...
+    def missing(self) -> list[str]: ...
+
+class ConstraintWarning:
+    @property
+    def feature_point(self) -> str: ...
+    @property
+    def axis(self) -> str: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def advisory(self) -> bool: ...
+
+def measure_fapu(model: FaceModel) -> FapuMeasurement: ...
+def check_location_constraints(
+    model: FaceModel, fapu: FapuMeasurement, tolerance: float = 0.02
+) -> list[ConstraintWarning]: ...

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The subcommands of the `mpeg4face` tool. Each takes its arguments (without the program and
+// subcommand names) and returns the exit status; errors are thrown (mpeg4face::Error for bad
+// input, UsageError for bad arguments) and reported by main().
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mpeg4face::cli {
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Command {
+  const char* name;
+  const char* summary;
+  const char* usage;
+  int (*run)(const std::vector<std::string>& args);
+};
+
+int runInfo(const std::vector<std::string>& args);
+
+}  // namespace mpeg4face::cli

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mpeg4face info`: what a user needs to know about a head before animating it.
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "commands.hpp"
+#include "mpeg4face/fapu.hpp"
+#include "mpeg4face/feature_point_csv.hpp"
+#include "mpeg4face/file_io.hpp"
+#include "mpeg4face/spec.hpp"
+
+namespace mpeg4face::cli {
+namespace {
+
+struct InfoArgs {
+  std::string file;
+  std::optional<std::string> featurePoints;
+  bool json = false;
+};
+
+InfoArgs parseArgs(const std::vector<std::string>& args) {
+  InfoArgs out;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--json") {
+      out.json = true;
+    } else if (a == "--feature-points") {
+      if (i + 1 >= args.size()) throw UsageError("--feature-points needs a CSV file");
+      out.featurePoints = args[++i];
+    } else if (a.starts_with("-")) {
+      throw UsageError("unknown option '" + a + "'");
+    } else if (out.file.empty()) {
+      out.file = a;
+    } else {
+      throw UsageError("more than one FILE given ('" + out.file + "' and '" + a + "')");
+    }
+  }
+  if (out.file.empty()) throw UsageError("no FILE given");
+  return out;
+}
+
+const FapuDistance& distance(const FapuMeasurement& m, int i) {
+  const FapuDistance* all[] = {&m.ES0, &m.IRISD0, &m.ENS0, &m.MNS0, &m.MW0};
+  return *all[i];
+}
+constexpr const char* kDistanceNames[] = {"ES0", "IRISD0", "ENS0", "MNS0", "MW0"};
+
+}  // namespace
+
+int runInfo(const std::vector<std::string>& rawArgs) {
+  const InfoArgs args = parseArgs(rawArgs);
+  FaceModel model = readModel(args.file);
+  std::vector<std::string> warnings;
+  if (args.featurePoints) {
+    FeaturePointCsv csv = readFeaturePointCsv(*args.featurePoints, model);
+    for (auto& [id, binding] : csv.featurePoints) model.featurePoints[id] = binding;
+    warnings = std::move(csv.warnings);
+  }
+  const FapuMeasurement fapu = measureFapu(model);
+  for (int i = 0; i < 5; ++i) {
+    const FapuDistance& d = distance(fapu, i);
+    if (!d.measured) {
+      warnings.push_back(std::string(kDistanceNames[i]) + " not measured: " +
+                         (d.method.empty() ? "its feature points are not bound" : d.method));
+    }
+  }
+  for (const ConstraintWarning& w : checkLocationConstraints(model, fapu)) {
+    warnings.push_back((w.advisory ? "Table 6 (advice): " : "Table 6: ") + w.message);
+  }
+
+  std::vector<std::string> present, missing;
+  for (const FeaturePointInfo& fp : featurePointTable()) {
+    (model.featurePoints.contains(std::string(fp.id)) ? present : missing)
+        .emplace_back(fp.id);
+  }
+
+  if (args.json) {
+    nlohmann::ordered_json j;
+    j["file"] = args.file;
+    j["meshes"] = nlohmann::json::array();
+    for (const IndexedFaceSet& mesh : model.meshes) {
+      nlohmann::ordered_json m;
+      m["name"] = mesh.name;
+      m["vertices"] = mesh.vertexCount();
+      m["faces"] = mesh.faceCount();
+      m["morph_targets"] = nlohmann::json::array();
+      for (const MorphTarget& t : mesh.morphTargets) m["morph_targets"].push_back(t.name);
+      j["meshes"].push_back(std::move(m));
+    }
+    j["transforms"] = model.transforms.size();
+    j["animations"] = model.animations.size();
+    j["feature_points"] = {{"present", present}, {"missing", missing}};
+    nlohmann::ordered_json f, used;
+    for (int i = 0; i < 5; ++i) {
+      const FapuDistance& d = distance(fapu, i);
+      f[kDistanceNames[i]] = d.measured ? nlohmann::json(d.value) : nlohmann::json(nullptr);
+      used[kDistanceNames[i]] = {{"points", d.pointsUsed}, {"method", d.method}};
+    }
+    j["fapu"] = f;
+    j["fapu_points_used"] = used;
+    j["warnings"] = warnings;
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+
+  std::printf("%s\n", args.file.c_str());
+  std::printf("meshes (%zu):\n", model.meshes.size());
+  for (const IndexedFaceSet& mesh : model.meshes) {
+    std::printf("  %-24s %7d vertices %7d faces %4zu morph targets\n", mesh.name.c_str(),
+                mesh.vertexCount(), mesh.faceCount(), mesh.morphTargets.size());
+  }
+  for (const IndexedFaceSet& mesh : model.meshes) {
+    if (mesh.morphTargets.empty()) continue;
+    std::printf("morph targets of %s:\n", mesh.name.c_str());
+    for (const MorphTarget& t : mesh.morphTargets) std::printf("  %s\n", t.name.c_str());
+  }
+  if (!model.animations.empty()) std::printf("animations: %zu\n", model.animations.size());
+  std::printf("feature points: %zu present, %zu missing\n", present.size(), missing.size());
+  auto printList = [](const char* label, const std::vector<std::string>& ids) {
+    if (ids.empty()) return;
+    std::printf("  %s:", label);
+    for (const std::string& id : ids) std::printf(" %s", id.c_str());
+    std::printf("\n");
+  };
+  printList("present", present);
+  printList("missing", missing);
+  std::printf("FAPU (model units; the unit is the distance / 1024, AU = 1e-5 rad):\n");
+  for (int i = 0; i < 5; ++i) {
+    const FapuDistance& d = distance(fapu, i);
+    if (d.measured) {
+      std::printf("  %-6s = %-12.6g from %s\n", kDistanceNames[i], d.value, d.method.c_str());
+    } else {
+      std::printf("  %-6s   not measured\n", kDistanceNames[i]);
+    }
+  }
+  std::printf("warnings (%zu):\n", warnings.size());
+  for (const std::string& w : warnings) std::printf("  %s\n", w.c_str());
+  return 0;
+}
+
+}  // namespace mpeg4face::cli

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// mpeg4face: the command-line tool for batch users and the demo.
+#include <array>
+#include <cstdio>
+#include <exception>
+#include <string_view>
+
+#include "commands.hpp"
+#include "mpeg4face/error.hpp"
+
+namespace {
+
+using mpeg4face::cli::Command;
+
+constexpr std::array kCommands{
+    Command{"info", "describe a face model: meshes, morph targets, feature points, FAPU",
+            "mpeg4face info FILE [--feature-points CSV] [--json]\n"
+            "  FILE    .gltf, .glb, .obj or .wfm\n"
+            "  --feature-points CSV  bind feature points from CSV (fp,vertex | fp,mesh,vertex |\n"
+            "                        fp,x,y,z, or named columns)\n"
+            "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
+            mpeg4face::cli::runInfo},
+};
+
+void printHelp(std::FILE* out) {
+  std::fprintf(out,
+               "mpeg4face %s: MPEG-4 face animation tools\n\nusage: mpeg4face COMMAND [ARGS]\n\n"
+               "commands:\n",
+               MPEG4FACE_VERSION);
+  for (const Command& c : kCommands) std::fprintf(out, "  %-8s %s\n", c.name, c.summary);
+  std::fprintf(out, "\n'mpeg4face COMMAND --help' shows a command's arguments.\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    printHelp(stderr);
+    return 2;
+  }
+  const std::string_view name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    printHelp(stdout);
+    return 0;
+  }
+  if (name == "--version") {
+    std::printf("mpeg4face %s\n", MPEG4FACE_VERSION);
+    return 0;
+  }
+  for (const Command& c : kCommands) {
+    if (name != c.name) continue;
+    std::vector<std::string> args(argv + 2, argv + argc);
+    for (const std::string& a : args) {
+      if (a == "--help" || a == "-h") {
+        std::printf("usage: %s", c.usage);
+        return 0;
+      }
+    }
+    try {
+      return c.run(args);
+    } catch (const mpeg4face::cli::UsageError& e) {
+      std::fprintf(stderr, "mpeg4face %s: %s\nusage: %s", c.name, e.what(), c.usage);
+      return 2;
+    } catch (const mpeg4face::Error& e) {
+      std::fprintf(stderr, "mpeg4face %s: error: %s\n", c.name, e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "mpeg4face %s: internal error: %s\n", c.name, e.what());
+      return 3;
+    }
+  }
+  std::fprintf(stderr, "mpeg4face: unknown command '%s'\n\n", argv[1]);
+  printHelp(stderr);
+  return 2;
+}

@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// libFuzzer target for the glTF reader: any bytes must give a FaceModel or mpeg4face::Error,
+// never a crash, a hang or another exception. No baseDir, so no external files are read.
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/gltf.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  try {
+    (void)mpeg4face::parseGltf(std::string_view(reinterpret_cast<const char*>(data), size),
+                               "fuzz.gltf", {});
+  } catch (const mpeg4face::Error&) {
+  }
+  return 0;
+}

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Installs everything mpeg4face needs on Debian 12, from Debian's packages and npm only.
+# Does nothing (and needs no network) when all of it is already there. docs/dependencies.md
+# says why each package is needed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  cmake make g++ clang libclang-rt-14-dev   # build, sanitizers, libFuzzer
+  libeigen3-dev libtinygltf-dev nlohmann-json3-dev libgtest-dev
+  python3 python3-dev pybind11-dev python3-numpy python3-pytest
+  blender xvfb xauth                        # the add-on, headless and under a virtual display
+  nodejs npm                                # gltf-validator
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+# A node from elsewhere on PATH (nvm, image-provided) is as good as Debian's.
+if command -v node >/dev/null && command -v npm >/dev/null; then
+  missing=("${missing[@]/nodejs}"); missing=("${missing[@]/npm}")
+  read -r -a missing <<<"${missing[*]}"
+fi
+
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all Debian packages present"
+fi
+
+# gltf-validator (Khronos), pinned in tests/tools/package-lock.json.
+if [ ! -d tests/tools/node_modules/gltf-validator ]; then
+  echo "setup: installing gltf-validator from npm"
+  npm ci --prefix tests/tools --no-audit --no-fund --loglevel=error
+fi

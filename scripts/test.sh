@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# The README's test command: installs what is missing, builds, and runs every C++, Python and
+# Blender test, then the C++ tests again under ASan+UBSan and each fuzz target for a bounded
+# time. Exits non-zero on the first failure.
+# Environment: MPEG4FACE_FUZZ_SECONDS (default 30 per target).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+jobs=$(nproc)
+export PYTHONDONTWRITEBYTECODE=1
+
+step() { printf '\n=== %s\n' "$*"; }
+
+step "setup"
+scripts/setup.sh
+
+step "build (release)"
+scripts/build.sh build/release
+
+export MPEG4FACE_GLTF_VALIDATOR="node $root/tests/tools/validate_gltf.mjs"
+
+step "C++ tests"
+# The python and blender labels are the steps below, run there with their own output.
+ctest --test-dir build/release --output-on-failure -j"$jobs" -LE "python|blender"
+
+step "Python tests"
+PYTHONPATH="$root/build/release/python" /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
+
+step "Blender tests"
+MPEG4FACE_PYTHONPATH="$root/build/release/python" \
+  blender -b --factory-startup --python-exit-code 1 --python tests/blender/run_in_blender.py
+
+step "C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer"
+cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DMPEG4FACE_SANITIZE=ON -DMPEG4FACE_PYTHON=OFF >/dev/null
+cmake --build build/asan -j"$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build/asan --output-on-failure -j"$jobs"
+
+step "fuzz targets (${MPEG4FACE_FUZZ_SECONDS:-30} s each)"
+CXX=clang++ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPEG4FACE_FUZZ=ON \
+  -DMPEG4FACE_TESTS=OFF >/dev/null
+cmake --build build/fuzz -j"$jobs"
+mkdir -p build/fuzz/artifacts
+for target in build/fuzz/fuzz/fuzz_*; do
+  name=$(basename "$target")
+  corpus=$(mktemp -d)
+  cp -r "tests/fuzz_corpus/${name#fuzz_}/." "$corpus/"
+  log=build/fuzz/$name.log
+  if ! "$target" -max_total_time="${MPEG4FACE_FUZZ_SECONDS:-30}" -rss_limit_mb=2048 -timeout=10 \
+      -print_final_stats=1 -artifact_prefix=build/fuzz/artifacts/ "$corpus" >"$log" 2>&1; then
+    tail -n 60 "$log"
+    echo "$name FAILED; the input is in build/fuzz/artifacts/"
+    exit 1
+  fi
+  echo "$name: $(grep -E '^stat::number_of_executed_units' "$log" | tr -s ' ' | cut -d' ' -f2) inputs, no failure"
+  rm -rf "$corpus"
+done
+
+step "all tests passed"

@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The mpeg4face command-line tool, run as a user runs it.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace {
+
+const std::string kData = MPEG4FACE_TEST_DATA;
+
+struct CliResult {
+  int status;
+  std::string out;  // stdout and stderr together
+  std::string stdoutOnly;
+};
+
+CliResult run(const std::string& args) {
+  CliResult r{};
+  const std::filesystem::path err =
+      std::filesystem::path(::testing::TempDir()) / "mpeg4face_cli_stderr.txt";
+  const std::string command = std::string(MPEG4FACE_CLI) + " " + args + " 2>" + err.string();
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed", ""};
+  std::array<char, 4096> buffer{};
+  size_t n = 0;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.stdoutOnly.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::ifstream in(err);
+  r.out = r.stdoutOnly + std::string(std::istreambuf_iterator<char>(in), {});
+  return r;
+}
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::path(::testing::TempDir()) / name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
+const std::string kCandide = kData + "/candide3/candide3.wfm";
+const std::string kCandideFp = kData + "/candide3/feature_points.csv";
+
+}  // namespace
+
+TEST(CliInfo, Candide3PrintsAllFiveFapu) {
+  const CliResult r = run("info " + kCandide + " --feature-points " + kCandideFp);
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (const char* name : {"ES0", "IRISD0", "ENS0", "MNS0", "MW0"}) {
+    const auto line = r.out.find(std::string("  ") + name + " ");
+    ASSERT_NE(line, std::string::npos) << name << "\n" << r.out;
+    const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
+    EXPECT_NE(text.find("= "), std::string::npos) << text;
+    EXPECT_EQ(text.find("not measured"), std::string::npos) << text;
+  }
+  EXPECT_NE(r.out.find("candide3"), std::string::npos);
+  EXPECT_NE(r.out.find("113 vertices"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("FAP 3 open_jaw"), std::string::npos) << r.out;
+}
+
+TEST(CliInfo, JsonHasTheDocumentedKeys) {
+  const CliResult r = run("info " + kCandide + " --feature-points " + kCandideFp + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.stdoutOnly);
+  for (const char* key : {"meshes", "feature_points", "fapu", "warnings"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  ASSERT_EQ(j["meshes"].size(), 1u);
+  EXPECT_EQ(j["meshes"][0]["vertices"], 113);
+  EXPECT_EQ(j["meshes"][0]["faces"], 184);
+  for (const char* name : {"ES0", "IRISD0", "ENS0", "MNS0", "MW0"}) {
+    ASSERT_TRUE(j["fapu"][name].is_number()) << name;
+    EXPECT_GT(j["fapu"][name].get<double>(), 0.0) << name;
+  }
+  const auto& present = j["feature_points"]["present"];
+  EXPECT_NE(std::find(present.begin(), present.end(), "2.1"), present.end());
+  const auto& missing = j["feature_points"]["missing"];
+  EXPECT_NE(std::find(missing.begin(), missing.end(), "3.5"), missing.end());
+  EXPECT_EQ(present.size() + missing.size(), 85u);
+  // CANDIDE's CSV binds 11.1 twice: the warning names the later row.
+  bool duplicate = false;
+  for (const auto& w : j["warnings"]) duplicate |= w.get<std::string>().find("11.1") != std::string::npos;
+  EXPECT_TRUE(duplicate) << j["warnings"].dump();
+}
+
+TEST(CliInfo, WithoutFeaturePointsFapuAreMissingNotInvented) {
+  const CliResult r = run("info " + kCandide + " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.stdoutOnly);
+  EXPECT_TRUE(j["fapu"]["ES0"].is_null());
+  EXPECT_EQ(j["feature_points"]["present"].size(), 0u);
+}
+
+TEST(CliInfo, MissingFileFailsWithItsName) {
+  const CliResult r = run("info /nonexistent/head.glb");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("/nonexistent/head.glb"), std::string::npos) << r.out;
+}
+
+TEST(CliInfo, MalformedFilesFailNamingFileAndLine) {
+  const std::string obj = writeTemp("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  CliResult r = run("info " + obj);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find(obj + ":4"), std::string::npos) << r.out;
+
+  const std::string csv = writeTemp("bad.csv", "fp,vertex\n2.1,10\n99.9,3\n");
+  r = run("info " + kCandide + " --feature-points " + csv);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find(csv + ":3"), std::string::npos) << r.out;
+
+  const std::string glb = writeTemp("bad.glb", std::string("glTF\x02\0\0\0", 8));
+  r = run("info " + glb);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find(glb), std::string::npos) << r.out;
+
+  const std::string wfm = writeTemp("bad.wfm", "# VERTEX LIST:\n3\n0 0 0\n1 0\n");
+  r = run("info " + wfm);
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find(wfm + ":4"), std::string::npos) << r.out;
+}
+
+TEST(Cli, UsageErrorsExitWithStatus2) {
+  EXPECT_EQ(run("").status, 2);
+  EXPECT_EQ(run("frobnicate").status, 2);
+  const CliResult r = run("info");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("usage: mpeg4face info"), std::string::npos) << r.out;
+  EXPECT_EQ(run("info a.glb --bogus").status, 2);
+  EXPECT_EQ(run("info a.glb --feature-points").status, 2);
+  EXPECT_EQ(run("info a.obj b.obj").status, 2);
+}
+
+TEST(Cli, HelpAndVersion) {
+  CliResult r = run("--help");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("info"), std::string::npos);
+  r = run("info --help");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("--feature-points"), std::string::npos);
+  r = run("--version");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("mpeg4face "), std::string::npos);
+}
