@@ -524,7 +524,9 @@ class Reader {
         for (double id : values) {
           // Every original vertex has at least one glTF vertex, so ids stay below the total.
           if (!(id >= 0) || id != std::floor(id) || id >= static_cast<double>(totalVertices)) {
-            fail(field, "vertex number " + std::to_string(id) + " is out of range (the mesh has " +
+            std::ostringstream number;
+            number << id;
+            fail(field, "vertex number " + number.str() + " is out of range (the mesh has " +
                             str(totalVertices) + " glTF vertices)");
           }
           v.source.push_back(static_cast<uint64_t>(id));
@@ -550,7 +552,7 @@ class Reader {
 
     // Vertex order of the primitive: its indices, or 0..n-1.
     std::vector<uint64_t> order;
-    if (prim.indices >= 0) {
+    if (prim.indices != -1) {  // tinygltf's "absent"
       const std::vector<double> indices =
           readAccessor(prim.indices, pp + ".indices",
                        {.type = TINYGLTF_TYPE_SCALAR, .floats = false, .unsignedInts = true});
@@ -576,7 +578,7 @@ class Reader {
     const size_t count = order.size();
     if (mode == TINYGLTF_MODE_TRIANGLES) {
       if (count % 3 != 0) {
-        fail(pp + (prim.indices >= 0 ? ".indices" : ".attributes.POSITION"),
+        fail(pp + (prim.indices != -1 ? ".indices" : ".attributes.POSITION"),
              str(count) + " vertices do not make whole triangles");
       }
       for (size_t k = 0; k + 2 < count; k += 3) add(order[k], order[k + 1], order[k + 2], false);
