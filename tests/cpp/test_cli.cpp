@@ -10,9 +10,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "test_support.hpp"
+
 namespace {
 
-const std::string kData = MPEG4FACE_TEST_DATA;
+const std::string kData = mpeg4face::test::kData.string();
 
 struct CliResult {
   int status;
@@ -22,14 +24,14 @@ struct CliResult {
 
 CliResult run(const std::string& args) {
   CliResult r{};
-  const std::filesystem::path err =
-      std::filesystem::path(::testing::TempDir()) / "mpeg4face_cli_stderr.txt";
+  const std::filesystem::path err = mpeg4face::test::scratchDir() / "stderr.txt";
   const std::string command = std::string(MPEG4FACE_CLI) + " " + args + " 2>" + err.string();
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return {-1, "popen failed", ""};
   std::array<char, 4096> buffer{};
   size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.stdoutOnly.append(buffer.data(), n);
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    r.stdoutOnly.append(buffer.data(), n);
   const int status = pclose(pipe);
   r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   std::ifstream in(err);
@@ -38,7 +40,7 @@ CliResult run(const std::string& args) {
 }
 
 std::string writeTemp(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::path(::testing::TempDir()) / name;
+  const auto path = mpeg4face::test::scratchDir() / name;
   std::ofstream(path, std::ios::binary) << text;
   return path.string();
 }
@@ -84,7 +86,8 @@ TEST(CliInfo, JsonHasTheDocumentedKeys) {
   EXPECT_EQ(present.size() + missing.size(), 85u);
   // CANDIDE's CSV binds 11.1 twice: the warning names the later row.
   bool duplicate = false;
-  for (const auto& w : j["warnings"]) duplicate |= w.get<std::string>().find("11.1") != std::string::npos;
+  for (const auto& w : j["warnings"])
+    duplicate |= w.get<std::string>().find("11.1") != std::string::npos;
   EXPECT_TRUE(duplicate) << j["warnings"].dump();
 }
 

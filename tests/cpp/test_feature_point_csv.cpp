@@ -9,6 +9,7 @@
 #include "mpeg4face/obj.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/wfm.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -16,18 +17,8 @@ using mpeg4face::Error;
 using mpeg4face::FaceModel;
 using mpeg4face::FeaturePointCsv;
 
-const std::filesystem::path kData = MPEG4FACE_TEST_DATA;
-
-template <typename F>
-Error errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no mpeg4face::Error thrown";
-  return Error("none");
-}
+using mpeg4face::test::errorOf;
+using mpeg4face::test::kData;
 
 bool contains(const std::string& haystack, const std::string& needle) {
   return haystack.find(needle) != std::string::npos;

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,13 +19,14 @@
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/obj.hpp"
+#include "test_support.hpp"
 
 using namespace mpeg4face;
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kData = MPEG4FACE_TEST_DATA;
+using mpeg4face::test::kData;
 
 // glTF stores 32-bit floats.
 constexpr double kTolerance = 1e-5;
@@ -307,13 +307,7 @@ std::string dataUri(const std::vector<float>& values) {
 
 class GltfTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("mpeg4face_test_gltf_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = mpeg4face::test::scratchDir(); }
   void TearDown() override { fs::remove_all(dir_); }
 
   fs::path dir_;

@@ -11,6 +11,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/obj.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -18,20 +19,9 @@ using mpeg4face::Error;
 using mpeg4face::FaceModel;
 using mpeg4face::IndexedFaceSet;
 
-const std::filesystem::path kData = MPEG4FACE_TEST_DATA;
+using mpeg4face::test::errorOf;
+using mpeg4face::test::kData;
 const std::filesystem::path kBaseObj = kData / "makehuman" / "base.obj";
-
-// The error `f` throws; fails the test if it throws none.
-template <typename F>
-Error errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no mpeg4face::Error thrown";
-  return Error("none");
-}
 
 Error malformed(const std::string& name) {
   return errorOf([&] { mpeg4face::readObj(kData / "malformed" / name); });

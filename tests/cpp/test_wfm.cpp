@@ -10,6 +10,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/wfm.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -17,19 +18,9 @@ using mpeg4face::CandideModel;
 using mpeg4face::CandideUnit;
 using mpeg4face::Error;
 
-const std::filesystem::path kData = MPEG4FACE_TEST_DATA;
+using mpeg4face::test::errorOf;
+using mpeg4face::test::kData;
 const std::filesystem::path kCandide = kData / "candide3" / "candide3.wfm";
-
-template <typename F>
-Error errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no mpeg4face::Error thrown";
-  return Error("none");
-}
 
 Error malformed(const std::string& name) {
   return errorOf([&] { mpeg4face::readWfm(kData / "malformed" / name); });
