@@ -8,12 +8,12 @@ std::string format(const std::string& file, int line, const std::string& field,
                    const std::string& message) {
   std::string out;
   if (!file.empty()) {
-    out += file;
-    if (line > 0) out += ":" + std::to_string(line);
-    out += ": ";
+    out.append(file);
+    if (line > 0) out.append(":").append(std::to_string(line));
+    out.append(": ");
   }
-  if (!field.empty()) out += field + ": ";
-  return out + message;
+  if (!field.empty()) out.append(field).append(": ");
+  return out.append(message);
 }
 
 }  // namespace

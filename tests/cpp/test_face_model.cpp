@@ -69,7 +69,7 @@ TEST(FaceModel, WorldMatricesAndFeaturePointsFollowTheHierarchy) {
   EXPECT_TRUE((world[face] * Eigen::Vector3d::Zero()).isApprox(Eigen::Vector3d(0, 100, 0)));
   EXPECT_TRUE((world[1] * Eigen::Vector3d::Zero()).isApprox(Eigen::Vector3d(10, 100, 0)));
 
-  model.featurePoints["3.5"] = {1, 2, {}};
+  model.featurePoints["3.5"] = {1, 2, Eigen::Vector3d::Zero()};
   model.featurePoints["7.1"] = {-1, -1, {0, -3, -1}};
   EXPECT_TRUE(model.featurePointPosition("3.5")->isApprox(Eigen::Vector3d(11, 101, 0)));
   EXPECT_TRUE(model.featurePointPosition("7.1")->isApprox(Eigen::Vector3d(0, -3, -1)));
@@ -112,7 +112,7 @@ TEST(FaceModel, ValidateNamesTheBrokenReference) {
   expectInvalid(badWeights, "weights");
 
   FaceModel badFp = good;
-  badFp.featurePoints["2.1"] = {0, 99, {}};
+  badFp.featurePoints["2.1"] = {0, 99, Eigen::Vector3d::Zero()};
   expectInvalid(badFp, "feature point 2.1");
 
   Transform b;

@@ -105,8 +105,8 @@ TEST(Fapu, FeaturePointsOnMeshesUseTheirTransforms) {
   mesh.coordIndex = {0, 1, 2, -1};
   face.addMeshWithTransform(mesh);
   face.transforms[0].scale = {10, 10, 10};
-  face.featurePoints["9.15"] = {0, 0, {}};
-  face.featurePoints["2.2"] = {0, 1, {}};
+  face.featurePoints["9.15"] = {0, 0, Eigen::Vector3d::Zero()};
+  face.featurePoints["2.2"] = {0, 1, Eigen::Vector3d::Zero()};
   EXPECT_DOUBLE_EQ(measureFapu(face).MNS0.value, 10.0);
 }
 
