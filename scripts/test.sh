@@ -12,6 +12,26 @@ export PYTHONDONTWRITEBYTECODE=1
 
 step() { printf '\n=== %s\n' "$*"; }
 
+# Totals over every runner, for the closing line. A failure stops the script before it.
+mkdir -p build/logs
+passed=0
+skipped=0
+counted() {  # counted LOG COMMAND...: runs COMMAND, keeps its output in LOG for tally
+  "${@:2}" 2>&1 | tee "build/logs/$1"
+}
+tally_ctest() {
+  local total skip
+  total=$(sed -n 's/.*tests passed, 0 tests failed out of \([0-9]*\).*/\1/p' "build/logs/$1")
+  skip=$(grep -c '(Skipped)' "build/logs/$1" || true)
+  passed=$((passed + total - skip)); skipped=$((skipped + skip))
+}
+tally_pytest() {
+  local line
+  line=$(grep -E '[0-9]+ passed' "build/logs/$1" | tail -n 1)
+  passed=$((passed + $(grep -oE '[0-9]+ passed' <<<"$line" | cut -d' ' -f1)))
+  skipped=$((skipped + $(grep -oE '[0-9]+ skipped' <<<"$line" | cut -d' ' -f1 || echo 0)))
+}
+
 step "setup"
 scripts/setup.sh
 
@@ -22,20 +42,25 @@ export MPEG4FACE_GLTF_VALIDATOR="node $root/tests/tools/validate_gltf.mjs"
 
 step "C++ tests"
 # The python and blender labels are the steps below, run there with their own output.
-ctest --test-dir build/release --output-on-failure -j"$jobs" -LE "python|blender"
+counted ctest.log ctest --test-dir build/release --output-on-failure -j"$jobs" -LE "python|blender"
+tally_ctest ctest.log
 
 step "Python tests"
-PYTHONPATH="$root/build/release/python" /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
+PYTHONPATH="$root/build/release/python" \
+  counted pytest.log /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
+tally_pytest pytest.log
 
 step "Blender tests"
-MPEG4FACE_PYTHONPATH="$root/build/release/python" \
+MPEG4FACE_PYTHONPATH="$root/build/release/python" counted blender.log \
   blender -b --factory-startup --python-exit-code 1 --python tests/blender/run_in_blender.py
+tally_pytest blender.log
 
 step "C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 cmake -S . -B build/asan -DCMAKE_BUILD_TYPE=Debug -DMPEG4FACE_SANITIZE=ON -DMPEG4FACE_PYTHON=OFF >/dev/null
 cmake --build build/asan -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/asan --output-on-failure -j"$jobs"
+  counted ctest-asan.log ctest --test-dir build/asan --output-on-failure -j"$jobs"
+tally_ctest ctest-asan.log
 
 step "fuzz targets (${MPEG4FACE_FUZZ_SECONDS:-30} s each)"
 CXX=clang++ cmake -S . -B build/fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPEG4FACE_FUZZ=ON \
@@ -54,7 +79,9 @@ for target in build/fuzz/fuzz/fuzz_*; do
     exit 1
   fi
   echo "$name: $(grep -E '^stat::number_of_executed_units' "$log" | tr -s ' ' | cut -d' ' -f2) inputs, no failure"
+  passed=$((passed + 1))
   rm -rf "$corpus"
 done
 
 step "all tests passed"
+echo "tests: $passed passed, 0 failed, $skipped skipped"
