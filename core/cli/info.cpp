@@ -62,8 +62,7 @@ int runInfo(const std::vector<std::string>& rawArgs) {
   for (int i = 0; i < 5; ++i) {
     const FapuDistance& d = distance(fapu, i);
     if (!d.measured) {
-      warnings.push_back(std::string(kDistanceNames[i]) + " not measured: " +
-                         (d.method.empty() ? "its feature points are not bound" : d.method));
+      warnings.push_back(std::string(kDistanceNames[i]) + " not measured: " + d.method);
     }
   }
   for (const ConstraintWarning& w : checkLocationConstraints(model, fapu)) {
@@ -72,8 +71,7 @@ int runInfo(const std::vector<std::string>& rawArgs) {
 
   std::vector<std::string> present, missing;
   for (const FeaturePointInfo& fp : featurePointTable()) {
-    (model.featurePoints.contains(std::string(fp.id)) ? present : missing)
-        .emplace_back(fp.id);
+    (model.featurePoints.contains(std::string(fp.id)) ? present : missing).emplace_back(fp.id);
   }
 
   if (args.json) {
@@ -132,7 +130,7 @@ int runInfo(const std::vector<std::string>& rawArgs) {
     if (d.measured) {
       std::printf("  %-6s = %-12.6g from %s\n", kDistanceNames[i], d.value, d.method.c_str());
     } else {
-      std::printf("  %-6s   not measured\n", kDistanceNames[i]);
+      std::printf("  %-6s   not measured (%s)\n", kDistanceNames[i], d.method.c_str());
     }
   }
   std::printf("warnings (%zu):\n", warnings.size());

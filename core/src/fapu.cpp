@@ -140,8 +140,11 @@ double FapuMeasurement::unit(FapuKind kind) const {
 
 std::vector<std::string> FapuMeasurement::missing() const {
   std::vector<std::string> out;
-  for (auto [name, d] : {std::pair{"ES0", &ES0}, {"IRISD0", &IRISD0}, {"ENS0", &ENS0},
-                         {"MNS0", &MNS0}, {"MW0", &MW0}}) {
+  for (auto [name, d] : {std::pair{"ES0", &ES0},
+                         {"IRISD0", &IRISD0},
+                         {"ENS0", &ENS0},
+                         {"MNS0", &MNS0},
+                         {"MW0", &MW0}}) {
     if (!d->measured) out.emplace_back(name);
   }
   return out;
@@ -150,6 +153,14 @@ std::vector<std::string> FapuMeasurement::missing() const {
 FapuMeasurement measureFapu(const FaceModel& model) {
   const Positions p = boundPositions(model);
   FapuMeasurement m;
+  // What each distance needs; replaced by how it was measured when it is.
+  m.ES0.method = "needs 3.5 and 3.6, or the eye corners 3.7, 3.11, 3.8 and 3.12";
+  m.IRISD0.method = "needs 3.1 and 3.3, or 3.2 and 3.4";
+  m.ENS0.method =
+      "needs 9.15 and a pupil (3.5 or 3.6) or an eye's corners (3.7 and 3.11, or "
+      "3.8 and 3.12)";
+  m.MNS0.method = "needs 9.15 and 2.2";
+  m.MW0.method = "needs 8.3 and 8.4, or 2.4 and 2.5";
 
   const auto left = pupil(p, "3.5", "3.7", "3.11");
   const auto right = pupil(p, "3.6", "3.8", "3.12");
@@ -208,8 +219,7 @@ FapuMeasurement measureFapu(const FaceModel& model) {
     const auto* pa = find(p, a);
     const auto* pb = find(p, b);
     if (pa && pb) {
-      setDistance(m.MW0, (*pa - *pb).norm(), {a, b},
-                  std::string("|") + a + " - " + b + "|");
+      setDistance(m.MW0, (*pa - *pb).norm(), {a, b}, std::string("|") + a + " - " + b + "|");
       break;
     }
   }
@@ -237,8 +247,8 @@ std::vector<ConstraintWarning> checkLocationConstraints(const FaceModel& model,
     const auto* self = find(p, info.id);
     if (!self) continue;
     const std::string id(info.id);
-    for (auto [axis, spec] : {std::pair{0, info.constraintX}, {1, info.constraintY},
-                              {2, info.constraintZ}}) {
+    for (auto [axis, spec] :
+         {std::pair{0, info.constraintX}, {1, info.constraintY}, {2, info.constraintZ}}) {
       const char axisName = "xyz"[axis];
       for (const ConstraintTerm& term : parseConstraint(spec, info.id)) {
         double expected = 0.0;

@@ -49,6 +49,10 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& c
 }
 
 FaceModel readModel(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw Error(path.string(), 0, {}, "is a folder, not a model file");
+  }
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

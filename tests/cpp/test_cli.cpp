@@ -105,6 +105,18 @@ TEST(CliInfo, MissingFileFailsWithItsName) {
   EXPECT_NE(r.out.find("/nonexistent/head.glb"), std::string::npos) << r.out;
 }
 
+TEST(CliInfo, AFolderIsNotAModel) {
+  const CliResult r = run("info " + kData);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find(kData + ": is a folder"), std::string::npos) << r.out;
+}
+
+TEST(CliInfo, UnmeasuredFapuSayWhatTheyNeed) {
+  const CliResult r = run("info " + kCandide);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("not measured (needs 9.15 and 2.2)"), std::string::npos) << r.out;
+}
+
 TEST(CliInfo, MalformedFilesFailNamingFileAndLine) {
   const std::string obj = writeTemp("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
   CliResult r = run("info " + obj);

@@ -85,6 +85,16 @@ TEST(Fapu, OneEyeIsEnoughForIrisdAndEns) {
   EXPECT_DOUBLE_EQ(m.ENS0.value, 40.0);
   EXPECT_FALSE(m.ES0.measured);
   EXPECT_EQ(m.missing(), (std::vector<std::string>{"ES0"}));
+  // An unmeasured distance says which points it needs.
+  EXPECT_EQ(m.ES0.method, "needs 3.5 and 3.6, or the eye corners 3.7, 3.11, 3.8 and 3.12");
+}
+
+TEST(Fapu, NothingBoundMeansNothingMeasured) {
+  const FapuMeasurement m = measureFapu(FaceModel{});
+  EXPECT_EQ(m.missing().size(), 5u);
+  EXPECT_EQ(m.MNS0.method, "needs 9.15 and 2.2");
+  EXPECT_EQ(m.MW0.method, "needs 8.3 and 8.4, or 2.4 and 2.5");
+  EXPECT_DOUBLE_EQ(m.unit(FapuKind::MNS), 0.0);
 }
 
 TEST(Fapu, UpsideDownFaceIsNotMeasuredAndSaysWhy) {

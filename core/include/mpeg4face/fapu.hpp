@@ -16,7 +16,9 @@ struct FapuDistance {
   bool measured = false;
   double value = 0.0;                   // model units; the unit itself is value / 1024
   std::vector<std::string> pointsUsed;  // feature points the value came from
-  std::string method;                   // how, in words, e.g. "|3.5 - 3.6|"
+  // How, in words, e.g. "|3.5 - 3.6|"; when not measured, why not (the points it needs, or
+  // that the value is not positive).
+  std::string method;
 };
 
 struct FapuMeasurement {
