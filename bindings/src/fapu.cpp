@@ -84,13 +84,8 @@ void bindMeasurement(py::module_& m) {
       "Names of the distances not measured, e.g. [\"ENS0\"].");
   cls.def("__repr__", [](const FapuMeasurement& f) {
     std::string out = "<FapuMeasurement";
-    const std::pair<const char*, const FapuDistance*> all[] = {{"ES0", &f.ES0},
-                                                               {"IRISD0", &f.IRISD0},
-                                                               {"ENS0", &f.ENS0},
-                                                               {"MNS0", &f.MNS0},
-                                                               {"MW0", &f.MW0}};
-    for (const auto& [name, d] : all) {
-      out += std::string(" ") + name + "=" +
+    for (auto [name, d] : f.distances()) {
+      out += " " + std::string(name) + "=" +
              (d->measured ? std::string(py::repr(py::float_(d->value))) : "?");
     }
     return out + ">";

@@ -41,12 +41,6 @@ InfoArgs parseArgs(const std::vector<std::string>& args) {
   return out;
 }
 
-const FapuDistance& distance(const FapuMeasurement& m, int i) {
-  const FapuDistance* all[] = {&m.ES0, &m.IRISD0, &m.ENS0, &m.MNS0, &m.MW0};
-  return *all[i];
-}
-constexpr const char* kDistanceNames[] = {"ES0", "IRISD0", "ENS0", "MNS0", "MW0"};
-
 }  // namespace
 
 int runInfo(const std::vector<std::string>& rawArgs) {
@@ -59,11 +53,8 @@ int runInfo(const std::vector<std::string>& rawArgs) {
     warnings = std::move(csv.warnings);
   }
   const FapuMeasurement fapu = measureFapu(model);
-  for (int i = 0; i < 5; ++i) {
-    const FapuDistance& d = distance(fapu, i);
-    if (!d.measured) {
-      warnings.push_back(std::string(kDistanceNames[i]) + " not measured: " + d.method);
-    }
+  for (auto [name, d] : fapu.distances()) {
+    if (!d->measured) warnings.push_back(std::string(name) + " not measured: " + d->method);
   }
   for (const ConstraintWarning& w : checkLocationConstraints(model, fapu)) {
     warnings.push_back((w.advisory ? "Table 6 (advice): " : "Table 6: ") + w.message);
@@ -91,10 +82,10 @@ int runInfo(const std::vector<std::string>& rawArgs) {
     j["animations"] = model.animations.size();
     j["feature_points"] = {{"present", present}, {"missing", missing}};
     nlohmann::ordered_json f, used;
-    for (int i = 0; i < 5; ++i) {
-      const FapuDistance& d = distance(fapu, i);
-      f[kDistanceNames[i]] = d.measured ? nlohmann::json(d.value) : nlohmann::json(nullptr);
-      used[kDistanceNames[i]] = {{"points", d.pointsUsed}, {"method", d.method}};
+    for (auto [name, d] : fapu.distances()) {
+      const std::string key(name);
+      f[key] = d->measured ? nlohmann::json(d->value) : nlohmann::json(nullptr);
+      used[key] = {{"points", d->pointsUsed}, {"method", d->method}};
     }
     j["fapu"] = f;
     j["fapu_points_used"] = used;
@@ -125,12 +116,12 @@ int runInfo(const std::vector<std::string>& rawArgs) {
   printList("present", present);
   printList("missing", missing);
   std::printf("FAPU (model units; the unit is the distance / 1024, AU = 1e-5 rad):\n");
-  for (int i = 0; i < 5; ++i) {
-    const FapuDistance& d = distance(fapu, i);
-    if (d.measured) {
-      std::printf("  %-6s = %-12.6g from %s\n", kDistanceNames[i], d.value, d.method.c_str());
+  for (auto [name, d] : fapu.distances()) {
+    const std::string label(name);
+    if (d->measured) {
+      std::printf("  %-6s = %-12.6g from %s\n", label.c_str(), d->value, d->method.c_str());
     } else {
-      std::printf("  %-6s   not measured (%s)\n", kDistanceNames[i], d.method.c_str());
+      std::printf("  %-6s   not measured (%s)\n", label.c_str(), d->method.c_str());
     }
   }
   std::printf("warnings (%zu):\n", warnings.size());

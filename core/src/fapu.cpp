@@ -138,13 +138,13 @@ double FapuMeasurement::unit(FapuKind kind) const {
   return d->measured ? d->value / kFapuDivisor : 0.0;
 }
 
+std::array<FapuMeasurement::NamedDistance, 5> FapuMeasurement::distances() const {
+  return {{{"ES0", &ES0}, {"IRISD0", &IRISD0}, {"ENS0", &ENS0}, {"MNS0", &MNS0}, {"MW0", &MW0}}};
+}
+
 std::vector<std::string> FapuMeasurement::missing() const {
   std::vector<std::string> out;
-  for (auto [name, d] : {std::pair{"ES0", &ES0},
-                         {"IRISD0", &IRISD0},
-                         {"ENS0", &ENS0},
-                         {"MNS0", &MNS0},
-                         {"MW0", &MW0}}) {
+  for (auto [name, d] : distances()) {
     if (!d->measured) out.emplace_back(name);
   }
   return out;

@@ -13,12 +13,20 @@
 #include "mpeg4face/wfm.hpp"
 
 namespace mpeg4face {
+namespace {
 
-std::string readFile(const std::filesystem::path& path) {
+// A folder opens as an empty stream and has no extension: name the real problem instead.
+void rejectFolder(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     throw Error(path.string(), 0, {}, "is a folder, not a file");
   }
+}
+
+}  // namespace
+
+std::string readFile(const std::filesystem::path& path) {
+  rejectFolder(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path.string(), 0, {}, "cannot open for reading");
   std::ostringstream buffer;
@@ -49,10 +57,7 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& c
 }
 
 FaceModel readModel(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw Error(path.string(), 0, {}, "is a folder, not a model file");
-  }
+  rejectFolder(path);
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

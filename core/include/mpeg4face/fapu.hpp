@@ -3,7 +3,9 @@
 // feature-point location constraints of Tekalp-Ostermann Table 6.
 #pragma once
 
+#include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mpeg4face/face_model.hpp"
@@ -25,6 +27,12 @@ struct FapuMeasurement {
   FapuDistance ES0, IRISD0, ENS0, MNS0, MW0;
   // The unit (value / 1024) in model units for the linear FAPUs, 1e-5 for AU, 0 if unmeasured.
   double unit(FapuKind kind) const;
+  // The five distances with their names, in the order ES0, IRISD0, ENS0, MNS0, MW0.
+  struct NamedDistance {
+    std::string_view name;
+    const FapuDistance* distance;
+  };
+  std::array<NamedDistance, 5> distances() const;
   // Missing distances as names, e.g. {"ENS0"}.
   std::vector<std::string> missing() const;
 };
