@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Face Animation Tables (FAT): the BIFS nodes FaceDefTables, FaceDefMesh and FaceDefTransform
+// (Tekalp-Ostermann 2.1.3.4), and the MPEG-4 face they belong to. Plain structs that mirror
+// the nodes; the evaluator and the generator are in fat_evaluate.hpp and fat_generate.hpp.
+#pragma once
+
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+#include "mpeg4face/face_model.hpp"
+
+namespace mpeg4face {
+
+// How one FAP deforms one IndexedFaceSet: a piecewise-linear motion per affected vertex.
+struct FaceDefMesh {
+  int mesh = -1;                     // faceSceneGraphNode: index into FaceModel::meshes
+  std::vector<int> intervalBorders;  // increasing FAP values; one is 0 (see checkIntervalBorders)
+  std::vector<int> coordIndex;       // the affected vertices of the mesh
+  // One row per (coordIndex entry, interval), vertex-major as in the BIFS field: the
+  // displacements of coordIndex[i] are rows i * intervalCount() .. + intervalCount() - 1.
+  // Model units per FAPU; on the negative side per unit of |FAP| (see intervalWeights).
+  Points3 displacements;
+
+  int intervalCount() const { return static_cast<int>(intervalBorders.size()) - 1; }
+};
+
+// How one FAP changes one field of a Transform.
+struct FaceDefTransform {
+  enum class Field { Rotation = 1, Scale = 2, Translation = 3 };
+  int transform = -1;  // faceSceneGraphNode: index into FaceModel::transforms
+  Field fieldId = Field::Rotation;
+  Eigen::Vector4d rotationDef{0, 0, 1, 0};  // axis x y z, angle (radians per AU of FAP)
+  Eigen::Vector3d scaleDef{1, 1, 1};
+  Eigen::Vector3d translationDef{0, 0, 0};
+};
+
+// The animation rules of one FAP (fapID 3..68), or of one viseme (fapID 1) or expression
+// (fapID 2) chosen by highLevelSelect.
+struct FaceDefTables {
+  int fapID = 1;
+  int highLevelSelect = 1;
+  std::vector<FaceDefMesh> faceDefMesh;
+  std::vector<FaceDefTransform> faceDefTransform;
+};
+
+// An animatable MPEG-4 face (BIFS FDP): the neutral scene graph with its feature points
+// (faceSceneGraph, featurePointsCoord) and the tables that animate it.
+struct MpegFace {
+  FaceModel faceSceneGraph;
+  std::vector<FaceDefTables> faceDefTables;
+};
+
+// The coefficient of each interval for a FAP value, so that a vertex moves by
+// FAPU * sum_k weights[k] * D_k, exactly as Tekalp-Ostermann's rules 1-6 say:
+// - intervals between 0 and the value get their width, the one holding the value the part
+//   up to it; on the negative side these lengths are positive (0 - I, I - FAP), so a
+//   negative-side displacement is motion per unit of |FAP|;
+// - beyond the outermost border the outermost interval continues (rules 3 and 5); when 0 is
+//   the first (last) border, a value below (above) it continues the first (last) interval
+//   through 0, i.e. weight = value (-value);
+// - with one interval the motion is linear and signed: weights = {value} (rule 6).
+// `weights` gets intervalBorders.size() - 1 entries. Borders must be valid (see
+// checkIntervalBorders).
+void intervalWeights(std::span<const int> intervalBorders, double value,
+                     std::vector<double>& weights);
+
+// Throws mpeg4face::Error (field "intervalBorders") unless there are at least two borders,
+// strictly increasing, and (with two or more intervals) exactly one of them is 0. A single
+// interval needs no 0 border: its motion is FAP * D whatever its borders.
+void checkIntervalBorders(std::span<const int> intervalBorders);
+
+}  // namespace mpeg4face

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "mpeg4face/fat.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "mpeg4face/error.hpp"
+
+namespace mpeg4face {
+
+void checkIntervalBorders(std::span<const int> intervalBorders) {
+  const auto fail = [](const std::string& why) {
+    throw Error({}, 0, "intervalBorders", why);
+  };
+  if (intervalBorders.size() < 2)
+    fail("needs at least two borders (one interval), has " +
+         std::to_string(intervalBorders.size()));
+  for (size_t i = 1; i < intervalBorders.size(); ++i)
+    if (intervalBorders[i] <= intervalBorders[i - 1])
+      fail("borders must increase strictly: " + std::to_string(intervalBorders[i - 1]) +
+           " is followed by " + std::to_string(intervalBorders[i]));
+  if (intervalBorders.size() > 2 && std::ranges::count(intervalBorders, 0) != 1)
+    fail("with several intervals exactly one border must be 0");
+}
+
+void intervalWeights(std::span<const int> intervalBorders, double value,
+                     std::vector<double>& weights) {
+  const size_t n = intervalBorders.size() - 1;
+  weights.assign(n, 0.0);
+  if (n == 1) {  // rule 6: strictly linear
+    weights[0] = value;
+    return;
+  }
+  const auto& I = intervalBorders;
+  const size_t k = static_cast<size_t>(std::ranges::find(I, 0) - I.begin());
+  if (value >= 0) {
+    if (k == n) {  // no positive interval: the last one continues through 0
+      weights[n - 1] = -value;
+      return;
+    }
+    for (size_t j = k; j < n; ++j) {
+      const double part = value - I[j];
+      if (part <= 0) break;
+      weights[j] = j + 1 == n ? part : std::min(part, double(I[j + 1] - I[j]));
+    }
+  } else {
+    if (k == 0) {  // no negative interval: the first one continues through 0
+      weights[0] = value;
+      return;
+    }
+    for (size_t j = k; j-- > 0;) {
+      const double part = I[j + 1] - value;
+      if (part <= 0) break;
+      weights[j] = j == 0 ? part : std::min(part, double(I[j + 1] - I[j]));
+    }
+  }
+}
+
+}  // namespace mpeg4face

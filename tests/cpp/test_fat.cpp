@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include <gtest/gtest.h>
+
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/fat.hpp"
+#include "test_support.hpp"
+
+using namespace mpeg4face;
+using mpeg4face::test::errorOf;
+
+namespace {
+
+std::vector<double> weightsOf(std::vector<int> borders, double value) {
+  std::vector<double> w;
+  intervalWeights(borders, value, w);
+  return w;
+}
+
+}  // namespace
+
+// Tekalp-Ostermann Table 5: borders -1000, 0, 500, 1000; FAP 6 = 600 -> 500 * D1 + 100 * D2.
+TEST(IntervalWeights, PaperWorkedExamplePositive) {
+  EXPECT_EQ(weightsOf({-1000, 0, 500, 1000}, 600), (std::vector<double>{0, 500, 100}));
+}
+
+// The negative side multiplies by positive lengths: FAP 6 = -500 -> (0 - (-500)) * D0.
+TEST(IntervalWeights, PaperWorkedExampleNegative) {
+  EXPECT_EQ(weightsOf({-1000, 0, 500, 1000}, -500), (std::vector<double>{500, 0, 0}));
+  EXPECT_EQ(weightsOf({-1000, -400, 0, 1000}, -600), (std::vector<double>{200, 400, 0}));
+}
+
+TEST(IntervalWeights, BeyondTheOutermostBordersTheOutermostIntervalContinues) {
+  EXPECT_EQ(weightsOf({-1000, 0, 500, 1000}, 1500), (std::vector<double>{0, 500, 1000}));
+  EXPECT_EQ(weightsOf({-1000, 0, 500, 1000}, -1300), (std::vector<double>{1300, 0, 0}));
+  EXPECT_EQ(weightsOf({0, 500, 1000}, -200), (std::vector<double>{-200, 0}));
+  EXPECT_EQ(weightsOf({-1000, -500, 0}, 300), (std::vector<double>{0, -300}));
+  EXPECT_EQ(weightsOf({-1000, 0, 500, 1000}, 0), (std::vector<double>{0, 0, 0}));
+}
+
+TEST(IntervalWeights, OneIntervalIsLinearAndSigned) {
+  EXPECT_EQ(weightsOf({0, 1000}, -250), (std::vector<double>{-250}));
+  EXPECT_EQ(weightsOf({-1000, 1000}, 700), (std::vector<double>{700}));
+}
+
+TEST(IntervalWeights, BordersAreChecked) {
+  EXPECT_THROW(checkIntervalBorders(std::vector<int>{0}), Error);
+  EXPECT_THROW(checkIntervalBorders(std::vector<int>{0, 0}), Error);
+  EXPECT_THROW(checkIntervalBorders(std::vector<int>{-5, 5, 10}), Error);
+  EXPECT_EQ(errorOf([] { checkIntervalBorders(std::vector<int>{0, 10, 5}); }).field(),
+            "intervalBorders");
+  EXPECT_NO_THROW(checkIntervalBorders(std::vector<int>{-1000, 1000}));
+  EXPECT_NO_THROW(checkIntervalBorders(std::vector<int>{-1000, 0, 500, 1000}));
+}
