@@ -5,8 +5,32 @@
 #include <string>
 
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/spec.hpp"
 
 namespace mpeg4face {
+
+double fapScale(const FapuMeasurement& fapu, int fapID) {
+  if (fapID == 1 || fapID == 2) return 1.0;
+  return fapu.unit(fapInfo(fapID).fapu);
+}
+
+void applyFaceDefTransform(const FaceDefTransform& def, double scaledValue, Transform& transform) {
+  switch (def.fieldId) {
+    case FaceDefTransform::Field::Rotation: {
+      const Eigen::Vector3d axis = def.rotationDef.head<3>();
+      if (axis.norm() == 0) throw Error({}, 0, "rotationDef", "rotation axis is zero");
+      transform.rotation =
+          transform.rotation * Eigen::AngleAxisd(scaledValue * def.rotationDef[3], axis.normalized());
+      break;
+    }
+    case FaceDefTransform::Field::Scale:
+      transform.scale += scaledValue * def.scaleDef;
+      break;
+    case FaceDefTransform::Field::Translation:
+      transform.translation += scaledValue * def.translationDef;
+      break;
+  }
+}
 
 void checkIntervalBorders(std::span<const int> intervalBorders) {
   const auto fail = [](const std::string& why) {

@@ -51,3 +51,34 @@ TEST(IntervalWeights, BordersAreChecked) {
   EXPECT_NO_THROW(checkIntervalBorders(std::vector<int>{-1000, 1000}));
   EXPECT_NO_THROW(checkIntervalBorders(std::vector<int>{-1000, 0, 500, 1000}));
 }
+
+TEST(FaceDefTransform, RotationTranslationAndScaleFollowTheScaledValue) {
+  Transform t;
+  t.translation = {1, 2, 3};
+  FaceDefTransform yaw;  // Tekalp-Ostermann Table 5: LeftEyeX, axis (0, -1, 0), angle 1
+  yaw.rotationDef = {0, -1, 0, 1};
+  applyFaceDefTransform(yaw, 20000 * kAngleUnitRadians, t);
+  EXPECT_NEAR(Eigen::AngleAxisd(t.rotation).angle(), 0.2, 1e-12);
+  EXPECT_TRUE(Eigen::AngleAxisd(t.rotation).axis().isApprox(Eigen::Vector3d(0, -1, 0)));
+  FaceDefTransform move;
+  move.fieldId = FaceDefTransform::Field::Translation;
+  move.translationDef = {0, -0.5, 0};
+  applyFaceDefTransform(move, 4.0, t);
+  EXPECT_TRUE(t.translation.isApprox(Eigen::Vector3d(1, 0, 3)));
+  FaceDefTransform grow;
+  grow.fieldId = FaceDefTransform::Field::Scale;
+  grow.scaleDef = {0.1, 0, 0};
+  applyFaceDefTransform(grow, 2.0, t);
+  EXPECT_TRUE(t.scale.isApprox(Eigen::Vector3d(1.2, 1, 1)));
+  yaw.rotationDef = {0, 0, 0, 1};
+  EXPECT_EQ(errorOf([&] { applyFaceDefTransform(yaw, 1.0, t); }).field(), "rotationDef");
+}
+
+TEST(FapScale, LinearFapuAngleUnitAndHighLevel) {
+  FapuMeasurement fapu;
+  fapu.MNS0 = {true, 2048.0, {"9.15", "2.2"}, "9.15.y - 2.2.y"};
+  EXPECT_EQ(fapScale(fapu, 3), 2.0);  // open_jaw: MNS
+  EXPECT_EQ(fapScale(fapu, 23), kAngleUnitRadians);
+  EXPECT_EQ(fapScale(fapu, 1), 1.0);
+  EXPECT_EQ(fapScale(fapu, 19), 0.0);  // IRISD not measured
+}

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mpeg4face/face_model.hpp"
+#include "mpeg4face/fapu.hpp"
 
 namespace mpeg4face {
 
@@ -36,7 +37,10 @@ struct FaceDefTransform {
 };
 
 // The animation rules of one FAP (fapID 3..68), or of one viseme (fapID 1) or expression
-// (fapID 2) chosen by highLevelSelect.
+// (fapID 2) chosen by highLevelSelect. A table for FAP 1 or 2 is driven by the amount
+// 0..63 of its viseme (viseme_blend for viseme_select1, 63 - viseme_blend for
+// viseme_select2) or expression (its expression_intensity) in place of a FAP value, with
+// unit 1: its displacements are model units per step of 1/63.
 struct FaceDefTables {
   int fapID = 1;
   int highLevelSelect = 1;
@@ -64,6 +68,19 @@ struct MpegFace {
 // checkIntervalBorders).
 void intervalWeights(std::span<const int> intervalBorders, double value,
                      std::vector<double>& weights);
+
+// The unit a FAP's value is multiplied by: the FAPU of `fapID` in model units, AU in
+// radians, 1 for FAP 1 and 2 (see FaceDefTables). 0 if that FAPU was not measured.
+double fapScale(const FapuMeasurement& fapu, int fapID);
+
+// Adds one FaceDefTransform's effect to `transform`, for a FAP value already multiplied by
+// its unit (`scaledValue` = value * fapScale):
+//   rotation:    rotation = rotation * R(axis, scaledValue * angle)   (about the Transform's
+//                centre, in its own frame, after the rotations applied before it)
+//   scale:       scale += scaledValue * scaleDef
+//   translation: translation += scaledValue * translationDef
+// Several FAPs on one Transform are applied in increasing fapID order.
+void applyFaceDefTransform(const FaceDefTransform& def, double scaledValue, Transform& transform);
 
 // Throws mpeg4face::Error (field "intervalBorders") unless there are at least two borders,
 // strictly increasing, and (with two or more intervals) exactly one of them is 0. A single
