@@ -53,9 +53,13 @@ struct FapFrame {
 };
 
 struct FapStream {
-  std::string name;        // the .fap header's name field
+  std::string name;         // the .fap header's name field
   double frameRate = 25.0;  // frames per second
   std::vector<FapFrame> frames;
+  // The .fap header's version, "2.0", "2.1" or "2.2" (fap_file.hpp), kept so that a file is
+  // written back as it was read; values in `frames` are always in FAPU whatever the version.
+  std::string version = "2.1";
+  bool headerLine = true;  // false: the .fap file had no header line and is written without
   bool operator==(const FapStream&) const = default;
 };
 
