@@ -226,8 +226,7 @@ class FapParser {
         const int value = version20_ ? fromVersion20(raw) : raw;
         const std::string problem = magnitudeProblem(value);
         if (!problem.empty()) {
-          fail(fapField(fap),
-               text::quote(t) + (version20_ ? " (2.0 units; " : " (") + problem + ")");
+          fail(fapField(fap), version20_ ? text::quote(t) + " in 2.0 units: " + problem : problem);
         }
         frame.values[static_cast<size_t>(fap - 1)] = value;
       }

@@ -2,6 +2,7 @@
 // The .fap reader and writer: the nine Xface streams, the quirks of other writers, and errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -243,6 +244,69 @@ TEST(FapFile, ErrorsNameFileLineAndField) {
 
   e = errorOf([&] { parseFap("", "empty.fap"); });
   EXPECT_TRUE(contains(e, "empty.fap: no FAP header or frames")) << e.what();
+}
+
+Error malformed(const std::string& name) {
+  return errorOf([&] { mpeg4face::readFapFile(kData / "malformed" / name); });
+}
+
+struct Expected {
+  const char* file;
+  int line;
+  const char* field;
+  const char* text;
+};
+
+TEST(FapFile, MalformedFilesGiveClearErrors) {
+  const Expected cases[] = {
+      {"fap_truncated.fap", 9, "frame count",
+       "the file ends after 4 frames, but the header (line 1) announces 10"},
+      {"fap_truncated_mask.fap", 8, "values", "its values line is missing"},
+      {"fap_bad_mask_token.fap", 4, "mask", "FAP 23 yaw_l_eyeball must be 0 or 1, found '2'"},
+      {"fap_short_mask.fap", 6, "mask", "expected 68 tokens of 0 or 1"},
+      {"fap_wrong_value_count.fap", 5, "FAP 48 head_pitch", "value missing"},
+      {"fap_too_many_values.fap", 3, "values", "too many values"},
+      {"fap_huge_frame_count.fap", 1, "frame count", "'99999999' is out of range 0..10000000"},
+      {"fap_int_overflow_count.fap", 1, "frame count", "out of range: '4000000000'"},
+      {"fap_huge_value.fap", 5, "FAP 3 open_jaw", "5000000 is out of range"},
+      {"fap_non_numeric.fap", 3, "FAP 23 yaw_l_eyeball", "integer expected, found '1O'"},
+      {"fap_bad_version.fap", 1, "version", "unsupported .fap version '3.0'"},
+      {"fap_bad_frame_rate.fap", 1, "frame rate", "'0' is out of range"},
+      {"fap_frame_number_backwards.fap", 7, "frame number", "1 does not follow frame 2"},
+      {"fap_garbage.fap", 1, "version", "unsupported .fap version"},
+  };
+  for (const Expected& c : cases) {
+    const Error e = malformed(c.file);
+    EXPECT_EQ(e.file(), (kData / "malformed" / c.file).string());
+    EXPECT_EQ(e.line(), c.line) << c.file << ": " << e.what();
+    EXPECT_EQ(e.field(), c.field) << c.file << ": " << e.what();
+    EXPECT_TRUE(contains(e, c.text)) << c.file << ": " << e.what();
+  }
+  const Error empty = malformed("fap_empty.fap");
+  EXPECT_TRUE(contains(empty, "no FAP header or frames")) << empty.what();
+}
+
+TEST(FapFile, TruncatedAnywhereFailsOrKeepsEveryFrame) {
+  // A cut inside the last number still parses (nothing marks the end of a line); every other
+  // cut must fail naming a line of the part that is there.
+  const std::string text = mpeg4face::readFile(kData / "xface-fap" / "test.fap");
+  for (size_t cut = 0; cut < text.size(); cut += 37) {
+    const std::string part = text.substr(0, cut);
+    try {
+      EXPECT_EQ(parseFap(part, "cut.fap").frames.size(), 43u) << cut;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.file(), "cut.fap");
+      EXPECT_LE(e.line(), std::count(part.begin(), part.end(), '\n') + 1) << cut;
+    }
+  }
+}
+
+TEST(FapFile, Version20ValuesOutOfRangeAfterConversion) {
+  const Error e =
+      errorOf([] { parseFap("2.0 x 25 1\n" + maskLine({3}) + "0 -25000000\n", "v.fap"); });
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.field(), "FAP 3 open_jaw");
+  EXPECT_TRUE(contains(e, "'-25000000' in 2.0 units: -1250000 is out of range")) << e.what();
 }
 
 }  // namespace
