@@ -99,8 +99,14 @@ int runPsnr(const std::vector<std::string>& rawArgs) {
   std::printf("original %s: %d frames at %g Hz, %zu low-level FAPs\n", args.original.c_str(),
               c.frames, original.frameRate, c.faps.size());
   std::printf("decoded  %s\n", args.decoded.c_str());
-  std::printf("PSNR %s dB over %d FAPs (Tao et al. 1999, eq. 8; FAPs with range 0 excluded)\n",
-              decibels(c.psnr).c_str(), c.psnrFaps);
+  if (c.psnr) {
+    std::printf("PSNR %s dB over %d FAPs (Tao et al. 1999, eq. 8; FAPs with range 0 excluded)\n",
+                decibels(c.psnr).c_str(), c.psnrFaps);
+  } else {
+    std::printf(
+        "PSNR undefined: no FAP the original sends varies (Tao et al. eq. 8 needs a "
+        "range > 0)\n");
+  }
   std::printf("\n FAP name                    frames  range  max|err|   rms err  PSNR dB\n");
   for (const FapError& e : c.faps) {
     std::printf(

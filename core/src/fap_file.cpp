@@ -348,7 +348,7 @@ class FapWriter {
                               std::to_string(kMaxFapFrames));
     }
     const std::string_view name = stream_.name;
-    if (name.find_first_of("\r\n") != std::string_view::npos || text::trim(name) != name) {
+    if (name.find('\n') != std::string_view::npos || text::trim(name) != name) {
       fail("name", text::quote(name) +
                        " cannot be kept in a .fap header: it holds a line break or starts or "
                        "ends with whitespace");

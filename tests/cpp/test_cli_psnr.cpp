@@ -100,6 +100,18 @@ TEST(CliPsnr, Json) {
   EXPECT_EQ(j["faps"].size(), 48u);
 }
 
+TEST(CliPsnr, SaysWhenPsnrIsUndefined) {
+  // One frame: no FAP has a range.
+  std::string mask = "0 0 1";
+  for (int i = 3; i < 68; ++i) mask += " 0";
+  const std::string one = writeTemp("one.fap", "2.1 x 25 1\n" + mask + "\n0 5\n");
+  const CliResult r = run("psnr " + one + " " + one);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("PSNR undefined"), std::string::npos) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(run("psnr --json " + one + " " + one).stdoutOnly)["psnr_db"],
+            nullptr);
+}
+
 TEST(CliPsnr, BadFilesFailNamingFileAndLine) {
   const std::string a = writeTemp("a.fap", kOriginal);
   const std::string bad = writeTemp("bad.fap", "2.1 x 25 1\n0 0 1 x\n");
