@@ -4,9 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
-#include <cmath>
 #include <cstdlib>
-#include <span>
 #include <vector>
 
 #include "mpeg4face/error.hpp"
