@@ -115,12 +115,13 @@ tinygltf::Value::Object fatExtras(const MpegFace& face, const FapuMeasurement& f
       const FaceDefMesh& def = table.faceDefMesh[m];
       std::vector<int> targets(static_cast<size_t>(def.intervalCount()));
       for (size_t k = 0; k < targets.size(); ++k) targets[k] = first[t][m] + static_cast<int>(k);
-      meshes.emplace_back(
-          tinygltf::Value::Object{{"mesh", tinygltf::Value(def.mesh)},
-                                  {"meshName", tinygltf::Value(model.meshes[def.mesh].name)},
-                                  {"intervalBorders", integers(def.intervalBorders)},
-                                  {"coordIndex", integers(def.coordIndex)},
-                                  {"targets", integers(targets)}});
+      tinygltf::Value::Object entry{{"mesh", tinygltf::Value(def.mesh)},
+                                    {"meshName", tinygltf::Value(model.meshes[def.mesh].name)},
+                                    {"intervalBorders", integers(def.intervalBorders)},
+                                    {"targets", integers(targets)}};
+      // tinygltf writes empty arrays and objects as null: leave them out.
+      if (!def.coordIndex.empty()) entry["coordIndex"] = integers(def.coordIndex);
+      meshes.emplace_back(std::move(entry));
     }
     tinygltf::Value::Array transforms;
     for (const FaceDefTransform& def : table.faceDefTransform) {
@@ -135,14 +136,15 @@ tinygltf::Value::Object fatExtras(const MpegFace& face, const FapuMeasurement& f
           {"scaleDef", numbers({s[0], s[1], s[2]})},
           {"translationDef", numbers({d[0], d[1], d[2]})}});
     }
-    tables.emplace_back(
-        tinygltf::Value::Object{{"fapID", tinygltf::Value(table.fapID)},
-                                {"highLevelSelect", tinygltf::Value(table.highLevelSelect)},
-                                {"faceDefMesh", tinygltf::Value(std::move(meshes))},
-                                {"faceDefTransform", tinygltf::Value(std::move(transforms))}});
+    tinygltf::Value::Object entry{{"fapID", tinygltf::Value(table.fapID)},
+                                  {"highLevelSelect", tinygltf::Value(table.highLevelSelect)}};
+    if (!meshes.empty()) entry["faceDefMesh"] = tinygltf::Value(std::move(meshes));
+    if (!transforms.empty()) entry["faceDefTransform"] = tinygltf::Value(std::move(transforms));
+    tables.emplace_back(std::move(entry));
   }
-  return {{"fapu", tinygltf::Value(std::move(distances))},
-          {"faceDefTables", tinygltf::Value(std::move(tables))}};
+  tinygltf::Value::Object extras{{"faceDefTables", tinygltf::Value(std::move(tables))}};
+  if (!distances.empty()) extras["fapu"] = tinygltf::Value(std::move(distances));
+  return extras;
 }
 
 // Reads the extras written by fatExtras, checking every value it uses.
@@ -270,21 +272,23 @@ class ExtrasReader {
   }
 
   void readFapu(const tinygltf::Value& ours, const std::string& base, FapuMeasurement& fapu) const {
-    if (!ours.Has("fapu")) return;
-    const tinygltf::Value& distances = object(ours.Get("fapu"), base + ".fapu");
-    for (FapuDistance* d : {&fapu.ES0, &fapu.IRISD0, &fapu.ENS0, &fapu.MNS0, &fapu.MW0}) {
-      d->method = "not in the glTF file";
-    }
-    for (const auto& [name, constDistance] : fapu.distances()) {
-      const std::string key(name);
-      if (!distances.Has(key)) continue;
-      const std::string field = base + ".fapu." + key;
-      const tinygltf::Value& v = distances.Get(key);
-      if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || !(v.GetNumberAsDouble() > 0)) {
-        fail(field, "expected a positive distance in model units");
+    // In the order of FapuMeasurement::distances(), which names them.
+    const std::array<FapuDistance*, 5> slots{&fapu.ES0, &fapu.IRISD0, &fapu.ENS0, &fapu.MNS0,
+                                             &fapu.MW0};
+    const auto named = fapu.distances();
+    const tinygltf::Value* distances = nullptr;
+    if (ours.Has("fapu")) distances = &object(ours.Get("fapu"), base + ".fapu");
+    for (size_t i = 0; i < slots.size(); ++i) {
+      const std::string key(named[i].name);
+      if (distances == nullptr || !distances->Has(key)) {
+        slots[i]->method = "not in the glTF file";
+        continue;
       }
-      auto* distance = const_cast<FapuDistance*>(constDistance);  // fapu is ours to fill
-      *distance = {true, v.GetNumberAsDouble(), {}, "from the glTF file"};
+      const tinygltf::Value& v = distances->Get(key);
+      if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || !(v.GetNumberAsDouble() > 0)) {
+        fail(base + ".fapu." + key, "expected a positive distance in model units");
+      }
+      *slots[i] = {true, v.GetNumberAsDouble(), {}, "from the glTF file"};
     }
   }
 
@@ -303,7 +307,7 @@ class ExtrasReader {
     } catch (const Error& e) {
       fail(mp + ".intervalBorders", e.reason());
     }
-    def.coordIndex = integers(entry, "coordIndex", mp);
+    if (entry.Has("coordIndex")) def.coordIndex = integers(entry, "coordIndex", mp);
     for (size_t i = 0; i < def.coordIndex.size(); ++i) {
       if (def.coordIndex[i] < 0 || def.coordIndex[i] >= mesh.vertexCount()) {
         fail(mp + ".coordIndex[" + str(i) + "]",
