@@ -8,7 +8,8 @@ namespace mpeg4face::gltf_names {
 // as SCALAR FLOAT (glTF does not allow UNSIGNED_INT vertex attributes). The reader also takes
 // UNSIGNED_BYTE / UNSIGNED_SHORT / UNSIGNED_INT.
 inline constexpr const char* kVertexAttribute = "_MPEG4FACE_VERTEX";
-// Our key under extras (scene: feature points; helper node: meshInstance).
+// Our key under extras (scene: feature points and FaceDefTables; helper nodes: meshInstance,
+// center).
 inline constexpr const char* kExtrasKey = "mpeg4face";
 
 }  // namespace mpeg4face::gltf_names

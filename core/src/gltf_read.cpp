@@ -19,9 +19,11 @@
 #include <optional>
 #include <sstream>
 #include <system_error>
+#include <tuple>
 #include <utility>
 #include <vector>
 
+#include "gltf_internal.hpp"
 #include "gltf_names.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/file_io.hpp"
@@ -176,19 +178,22 @@ class Reader {
     valueBudget_ += kMaxSyntheticValues;
   }
 
-  FaceModel read() {
+  gltf_internal::ReadResult read() {
     checkAssetAndExtensions();
     for (size_t i = 0; i < gltf_.meshes.size(); ++i) model_.meshes.push_back(readMesh(i));
     readNodes();
     readRoots();
     readAnimations();
-    readFeaturePoints();
+    gltf_internal::ReadResult result;
+    readFeaturePoints(result);
     try {
       model_.validate();
     } catch (const Error& e) {
       throw Error(fileName_, 0, e.field(), e.reason());
     }
-    return std::move(model_);
+    result.model = std::move(model_);
+    result.transformOfNode = std::move(transformOf_);
+    return result;
   }
 
  private:
@@ -673,15 +678,31 @@ class Reader {
     }
   }
 
-  // A node that writeGltf added only to instance one more mesh of a Transform.
-  bool isMeshInstance(const tinygltf::Node& node) const {
+  // Whether `node` carries {"mpeg4face": {<key>: true}} in its extras.
+  static bool markedAs(const tinygltf::Node& node, const char* key) {
     const tinygltf::Value& extras = node.extras;
     if (!extras.IsObject() || !extras.Has(kExtrasKey)) return false;
     const tinygltf::Value& ours = extras.Get(kExtrasKey);
-    return ours.IsObject() && ours.Has("meshInstance") && ours.Get("meshInstance").IsBool() &&
-           ours.Get("meshInstance").Get<bool>() && node.mesh >= 0 && node.children.empty() &&
+    return ours.IsObject() && ours.Has(key) && ours.Get(key).IsBool() && ours.Get(key).Get<bool>();
+  }
+
+  // A node that writeGltf added only to instance one more mesh of a Transform.
+  static bool isMeshInstance(const tinygltf::Node& node) {
+    return markedAs(node, "meshInstance") && node.mesh >= 0 && node.children.empty() &&
            node.matrix.empty() && node.translation.empty() && node.rotation.empty() &&
            node.scale.empty();
+  }
+
+  // A node that writeGltf added to carry -center of its parent's Transform: the parent's only
+  // child, translated only, holding the Transform's meshes and children.
+  bool isCenter(size_t index) const {
+    const tinygltf::Node& node = gltf_.nodes[index];
+    if (!markedAs(node, "center") || parent_[index] < 0 || !node.matrix.empty() ||
+        !node.rotation.empty() || !node.scale.empty() || node.translation.size() != 3) {
+      return false;
+    }
+    const tinygltf::Node& parent = gltf_.nodes[parent_[index]];
+    return parent.mesh < 0 && parent.children.size() == 1 && !markedAs(parent, "center");
   }
 
   void readNodes() {
@@ -725,16 +746,37 @@ class Reader {
     }
     transformOf_.assign(count, -1);
     std::vector<bool> helper(count, false);
+    std::vector<int> center(count, -1);  // the centre node under each node, -1 for none
     for (size_t i = 0; i < count; ++i) {
-      helper[i] = parent_[i] >= 0 && isMeshInstance(gltf_.nodes[i]);
+      if (isCenter(i)) {
+        helper[i] = true;
+        center[parent_[i]] = static_cast<int>(i);
+      } else {
+        helper[i] = parent_[i] >= 0 && isMeshInstance(gltf_.nodes[i]);
+      }
+    }
+    for (size_t i = 0; i < count; ++i) {
       if (helper[i]) continue;
       transformOf_[i] = static_cast<int>(model_.transforms.size());
       model_.transforms.push_back(readTransform(i));
+      if (center[i] >= 0) {
+        // The node is T + C, R, S over a node -C: the VRML Transform T, R, S about C.
+        const std::vector<double>& minus = gltf_.nodes[center[i]].translation;
+        for (double x : minus) {
+          if (!std::isfinite(x)) {
+            fail("nodes[" + str(center[i]) + "].translation", "has a non-finite value");
+          }
+        }
+        Transform& t = model_.transforms.back();
+        t.center = -Eigen::Vector3d(minus[0], minus[1], minus[2]);
+        t.translation -= t.center;
+      }
     }
     for (size_t i = 0; i < count; ++i) {
       if (helper[i]) continue;
       Transform& t = model_.transforms[transformOf_[i]];
-      const tinygltf::Node& node = gltf_.nodes[i];
+      // The Transform's meshes and children hang under its centre node, if it has one.
+      const tinygltf::Node& node = gltf_.nodes[center[i] >= 0 ? center[i] : i];
       if (node.mesh >= 0) t.meshes.push_back(node.mesh);
       for (int child : node.children) {
         if (helper[child]) {
@@ -863,27 +905,65 @@ class Reader {
       for (size_t c = 0; c < anim.channels.size(); ++c) {
         const tinygltf::AnimationChannel& channel = anim.channels[c];
         const std::string cp = ap + ".channels[" + str(c) + "]";
-        // Only morph weights are part of the face model; node translation / rotation / scale
-        // animation is ignored for now.
-        if (channel.target_path != "weights") continue;
+        const std::string& path = channel.target_path;
+        const bool weights = path == "weights";
+        if (!weights && path != "translation" && path != "rotation" && path != "scale") {
+          continue;  // e.g. KHR_animation_pointer: not part of the face model
+        }
         const int node = channel.target_node;
         if (node < 0 || static_cast<size_t>(node) >= gltf_.nodes.size()) {
           fail(cp + ".target.node", "node " + std::to_string(node) + " does not exist");
         }
-        const int mesh = gltf_.nodes[node].mesh;
-        if (mesh < 0) fail(cp + ".target.node", "node " + std::to_string(node) + " has no mesh");
         const int sampler = channel.sampler;
         if (sampler < 0 || static_cast<size_t>(sampler) >= anim.samplers.size()) {
           fail(cp + ".sampler", "sampler " + std::to_string(sampler) + " does not exist");
         }
+        const std::string sp = ap + ".samplers[" + std::to_string(sampler) + "]";
+        if (!weights) {
+          if (transformOf_[node] < 0) {
+            fail(cp + ".target.node", "node " + std::to_string(node) +
+                                          " is a helper node of mpeg4face's own (see its "
+                                          "extras), which cannot be animated");
+          }
+          out.transformChannels.push_back(
+              readTransformChannel(anim.samplers[sampler], sp, transformOf_[node], path));
+          continue;
+        }
+        const int mesh = gltf_.nodes[node].mesh;
+        if (mesh < 0) fail(cp + ".target.node", "node " + std::to_string(node) + " has no mesh");
         // Instances of one mesh animated by one sampler are one channel of the face model.
         if (std::find(done.begin(), done.end(), std::pair{mesh, sampler}) != done.end()) continue;
         done.emplace_back(mesh, sampler);
-        out.channels.push_back(readChannel(
-            anim.samplers[sampler], ap + ".samplers[" + std::to_string(sampler) + "]", cp, mesh));
+        out.channels.push_back(readChannel(anim.samplers[sampler], sp, cp, mesh));
       }
-      if (!out.channels.empty()) model_.animations.push_back(std::move(out));
+      if (!out.channels.empty() || !out.transformChannels.empty()) {
+        model_.animations.push_back(std::move(out));
+      }
     }
+  }
+
+  // The interpolation of a sampler and the number of outputs per key it needs (3 for cubic
+  // splines: in-tangent, value, out-tangent).
+  std::pair<MorphWeightChannel::Interpolation, size_t> interpolation(
+      const tinygltf::AnimationSampler& sampler, const std::string& sp) const {
+    if (sampler.interpolation == "LINEAR") return {MorphWeightChannel::Interpolation::Linear, 1};
+    if (sampler.interpolation == "STEP") return {MorphWeightChannel::Interpolation::Step, 1};
+    if (sampler.interpolation == "CUBICSPLINE") {
+      return {MorphWeightChannel::Interpolation::CubicSpline, 3};
+    }
+    fail(sp + ".interpolation", "unknown interpolation '" + sampler.interpolation + "'");
+  }
+
+  std::vector<double> keyTimes(const tinygltf::AnimationSampler& sampler, const std::string& sp) {
+    std::vector<double> times =
+        readAccessor(sampler.input, sp + ".input", {.type = TINYGLTF_TYPE_SCALAR});
+    if (times.empty()) fail(sp + ".input", "has no key times");
+    for (size_t i = 0; i < times.size(); ++i) {
+      if (!std::isfinite(times[i]) || (i > 0 && times[i] < times[i - 1])) {
+        fail(sp + ".input", "key times must be finite and increasing (key " + str(i) + ")");
+      }
+    }
+    return times;
   }
 
   MorphWeightChannel readChannel(const tinygltf::AnimationSampler& sampler, const std::string& sp,
@@ -891,28 +971,13 @@ class Reader {
     MorphWeightChannel channel;
     channel.mesh = mesh;
     size_t factor = 1;
-    if (sampler.interpolation == "LINEAR") {
-      channel.interpolation = MorphWeightChannel::Interpolation::Linear;
-    } else if (sampler.interpolation == "STEP") {
-      channel.interpolation = MorphWeightChannel::Interpolation::Step;
-    } else if (sampler.interpolation == "CUBICSPLINE") {
-      channel.interpolation = MorphWeightChannel::Interpolation::CubicSpline;
-      factor = 3;  // in-tangent, value, out-tangent per key
-    } else {
-      fail(sp + ".interpolation", "unknown interpolation '" + sampler.interpolation + "'");
-    }
+    std::tie(channel.interpolation, factor) = interpolation(sampler, sp);
     const size_t targets = model_.meshes[mesh].morphTargets.size();
     if (targets == 0) {
       fail(cp, "animates the weights of mesh '" + model_.meshes[mesh].name +
                    "', which has no morph targets");
     }
-    channel.times = readAccessor(sampler.input, sp + ".input", {.type = TINYGLTF_TYPE_SCALAR});
-    if (channel.times.empty()) fail(sp + ".input", "has no key times");
-    for (size_t i = 0; i < channel.times.size(); ++i) {
-      if (!std::isfinite(channel.times[i]) || (i > 0 && channel.times[i] < channel.times[i - 1])) {
-        fail(sp + ".input", "key times must be finite and increasing (key " + str(i) + ")");
-      }
-    }
+    channel.times = keyTimes(sampler, sp);
     const uint64_t expected = channel.times.size() * targets * factor;
     channel.weights =
         readAccessor(sampler.output, sp + ".output",
@@ -926,7 +991,38 @@ class Reader {
     return channel;
   }
 
-  void readFeaturePoints() {
+  TransformChannel readTransformChannel(const tinygltf::AnimationSampler& sampler,
+                                        const std::string& sp, int transform,
+                                        const std::string& path) {
+    TransformChannel channel;
+    channel.transform = transform;
+    size_t factor = 1;
+    std::tie(channel.interpolation, factor) = interpolation(sampler, sp);
+    const bool rotation = path == "rotation";
+    channel.path = rotation                ? TransformChannel::Path::Rotation
+                   : path == "translation" ? TransformChannel::Path::Translation
+                                           : TransformChannel::Path::Scale;
+    channel.times = keyTimes(sampler, sp);
+    // glTF allows normalized integers for rotations only.
+    const AccessorSpec spec = {.type = rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3,
+                               .floats = true,
+                               .normalizedInts = rotation};
+    channel.values =
+        readAccessor(sampler.output, sp + ".output", spec, channel.times.size() * factor);
+    if (channel.path == TransformChannel::Path::Translation) {
+      // The node's translation is the Transform's plus its centre (see readNodes); the
+      // tangents of a cubic spline need no offset.
+      const Eigen::Vector3d& center = model_.transforms[transform].center;
+      for (size_t key = 0; key < channel.times.size(); ++key) {
+        double* value = channel.values.data() + (key * factor + (factor == 3 ? 1 : 0)) * 3;
+        for (int i = 0; i < 3; ++i) value[i] -= center[i];
+      }
+    }
+    return channel;
+  }
+
+  // The feature points from the scene's extras.mpeg4face, which `result` gets as a whole.
+  void readFeaturePoints(gltf_internal::ReadResult& result) {
     const int s = sceneIndex();
     if (s < 0) return;
     const tinygltf::Value& extras = gltf_.scenes[s].extras;
@@ -934,6 +1030,8 @@ class Reader {
     const std::string base = "scenes[" + std::to_string(s) + "].extras." + kExtrasKey;
     const tinygltf::Value& ours = extras.Get(kExtrasKey);
     if (!ours.IsObject()) fail(base, "must be an object");
+    result.extras = ours;
+    result.extrasField = base;
     if (!ours.Has("featurePoints")) return;
     const tinygltf::Value& points = ours.Get("featurePoints");
     if (!points.IsObject()) fail(base + ".featurePoints", "must be an object");
@@ -1170,8 +1268,9 @@ std::pair<int, std::string> locateTinygltfError(const std::string& err, const ti
 
 }  // namespace
 
-FaceModel parseGltf(std::string_view bytes, const std::string& fileName,
-                    const std::filesystem::path& baseDir) {
+gltf_internal::ReadResult gltf_internal::parseGltf(std::string_view bytes,
+                                                   const std::string& fileName,
+                                                   const std::filesystem::path& baseDir) {
   if (bytes.empty()) throw Error(fileName, 0, {}, "empty file");
   if (bytes.size() > std::numeric_limits<uint32_t>::max()) {
     throw Error(fileName, 0, {}, "larger than 4 GiB, which tinygltf cannot read");
@@ -1231,11 +1330,20 @@ FaceModel parseGltf(std::string_view bytes, const std::string& fileName,
   return Reader(gltf, fileName).read();
 }
 
-FaceModel readGltf(const std::filesystem::path& path) {
+FaceModel parseGltf(std::string_view bytes, const std::string& fileName,
+                    const std::filesystem::path& baseDir) {
+  return gltf_internal::parseGltf(bytes, fileName, baseDir).model;
+}
+
+gltf_internal::ReadResult gltf_internal::readGltf(const std::filesystem::path& path) {
   const std::string bytes = readFile(path);
   std::filesystem::path baseDir = path.parent_path();
   if (baseDir.empty()) baseDir = ".";
   return parseGltf(bytes, path.string(), baseDir);
+}
+
+FaceModel readGltf(const std::filesystem::path& path) {
+  return gltf_internal::readGltf(path).model;
 }
 
 }  // namespace mpeg4face

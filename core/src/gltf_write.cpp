@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "gltf_internal.hpp"
 #include "gltf_names.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/file_io.hpp"
@@ -32,7 +33,8 @@ namespace {
 
 class Writer {
  public:
-  Writer(const FaceModel& model, const std::string& fileName) : model_(model), fileName_(fileName) {
+  Writer(const FaceModel& model, const std::string& fileName, const tinygltf::Value::Object& extras)
+      : model_(model), fileName_(fileName), extras_(extras) {
     gltf_.asset.version = "2.0";
     gltf_.asset.generator = "mpeg4face";
   }
@@ -240,7 +242,7 @@ class Writer {
   }
 
   void writeNodes() {
-    // Node i is Transform i; nodes that instance the further meshes of a Transform follow.
+    // Node i is Transform i; helper nodes (centre, further meshes) follow.
     meshNodes_.assign(model_.meshes.size(), {});
     for (size_t t = 0; t < model_.transforms.size(); ++t) {
       const Transform& transform = model_.transforms[t];
@@ -251,9 +253,10 @@ class Writer {
       checkFinite(transform.rotation.coeffs(), where + " rotation");
       if (!(transform.rotation.norm() > 1e-12)) fail(where + " rotation", "the quaternion is zero");
       const Eigen::Quaterniond r = transform.rotation.normalized();
-      // glTF has no centre: T * C * R * S * -C is the translation T + C - R S C.
-      const Eigen::Vector3d translation = transform.translation + transform.center -
-                                          r * transform.scale.cwiseProduct(transform.center);
+      // glTF has no centre: T * C * R * S * -C is this node (T + C, R, S) over a centre node
+      // (-C), so that rotating or scaling this node, by an animation or in a modeller, stays
+      // about the centre.
+      const Eigen::Vector3d translation = transform.translation + transform.center;
       tinygltf::Node node;
       node.name = transform.name;
       if (translation != Eigen::Vector3d::Zero())
@@ -268,26 +271,77 @@ class Writer {
     }
     for (size_t t = 0; t < model_.transforms.size(); ++t) {
       const Transform& transform = model_.transforms[t];
+      int holder = static_cast<int>(t);  // the node that holds the Transform's content
+      if (transform.center != Eigen::Vector3d::Zero()) {
+        tinygltf::Node centre;
+        centre.name = transform.name + ".center";
+        centre.translation = {-transform.center.x(), -transform.center.y(), -transform.center.z()};
+        centre.extras = helperExtras("center");
+        holder = static_cast<int>(gltf_.nodes.size());
+        gltf_.nodes[t].children = {holder};
+        gltf_.nodes.push_back(std::move(centre));
+      }
       std::vector<int> children;
       if (transform.meshes.size() == 1) {
-        gltf_.nodes[t].mesh = transform.meshes[0];
-        meshNodes_[transform.meshes[0]].push_back(static_cast<int>(t));
+        gltf_.nodes[holder].mesh = transform.meshes[0];
+        meshNodes_[transform.meshes[0]].push_back(holder);
       } else {
         for (int mesh : transform.meshes) {
           tinygltf::Node helper;
           helper.name = model_.meshes[mesh].name;
           helper.mesh = mesh;
-          helper.extras = tinygltf::Value(tinygltf::Value::Object{
-              {kExtrasKey,
-               tinygltf::Value(tinygltf::Value::Object{{"meshInstance", tinygltf::Value(true)}})}});
+          helper.extras = helperExtras("meshInstance");
           children.push_back(static_cast<int>(gltf_.nodes.size()));
           meshNodes_[mesh].push_back(children.back());
           gltf_.nodes.push_back(std::move(helper));
         }
       }
       children.insert(children.end(), transform.children.begin(), transform.children.end());
-      gltf_.nodes[t].children = std::move(children);
+      gltf_.nodes[holder].children = std::move(children);
     }
+  }
+
+  // {"mpeg4face": {<key>: true}}: marks a node the reader folds back into its Transform.
+  static tinygltf::Value helperExtras(const char* key) {
+    return tinygltf::Value(tinygltf::Value::Object{
+        {kExtrasKey, tinygltf::Value(tinygltf::Value::Object{{key, tinygltf::Value(true)}})}});
+  }
+
+  // Key times as 32-bit floats, checked to be finite and strictly increasing.
+  std::vector<float> keyTimes(const std::vector<double>& seconds, const std::string& where) const {
+    if (seconds.empty()) fail(where + " times", "no key times");
+    std::vector<float> times(seconds.begin(), seconds.end());
+    for (size_t i = 0; i < times.size(); ++i) {
+      if (!std::isfinite(times[i]) || (i > 0 && !(times[i] > times[i - 1]))) {
+        fail(where + " times",
+             "key times must be finite and strictly increasing (as "
+             "32-bit floats); key " +
+                 std::to_string(i) + " is not");
+      }
+    }
+    return times;
+  }
+
+  // Adds a sampler to `out`; returns its index.
+  int addSampler(tinygltf::Animation& out, const std::vector<float>& times,
+                 const std::vector<float>& values, int type,
+                 MorphWeightChannel::Interpolation interpolation) {
+    tinygltf::AnimationSampler sampler;
+    sampler.input = addFloats(times, TINYGLTF_TYPE_SCALAR, 0, true);
+    sampler.output = addFloats(values, type, 0, false);
+    switch (interpolation) {
+      case MorphWeightChannel::Interpolation::Linear:
+        sampler.interpolation = "LINEAR";
+        break;
+      case MorphWeightChannel::Interpolation::Step:
+        sampler.interpolation = "STEP";
+        break;
+      case MorphWeightChannel::Interpolation::CubicSpline:
+        sampler.interpolation = "CUBICSPLINE";
+        break;
+    }
+    out.samplers.push_back(std::move(sampler));
+    return static_cast<int>(out.samplers.size() - 1);
   }
 
   void writeAnimations() {
@@ -307,16 +361,7 @@ class Writer {
           fail(where, "mesh '" + mesh.name +
                           "' is not held by any transform; glTF animates the weights of nodes");
         }
-        if (channel.times.empty()) fail(where + " times", "no key times");
-        std::vector<float> times(channel.times.begin(), channel.times.end());
-        for (size_t i = 0; i < times.size(); ++i) {
-          if (!std::isfinite(times[i]) || (i > 0 && !(times[i] > times[i - 1]))) {
-            fail(where + " times",
-                 "key times must be finite and strictly increasing (as "
-                 "32-bit floats); key " +
-                     std::to_string(i) + " is not");
-          }
-        }
+        const std::vector<float> times = keyTimes(channel.times, where);
         const bool cubic = channel.interpolation == MorphWeightChannel::Interpolation::CubicSpline;
         const size_t expected = times.size() * targets * (cubic ? 3 : 1);
         if (channel.weights.size() != expected) {
@@ -327,30 +372,80 @@ class Writer {
         for (float w : weights) {
           if (!std::isfinite(w)) fail(where + " weights", "has a non-finite value");
         }
-        tinygltf::AnimationSampler sampler;
-        sampler.input = addFloats(times, TINYGLTF_TYPE_SCALAR, 0, true);
-        sampler.output = addFloats(weights, TINYGLTF_TYPE_SCALAR, 0, false);
-        sampler.interpolation = channel.interpolation == MorphWeightChannel::Interpolation::Step
-                                    ? "STEP"
-                                    : (cubic ? "CUBICSPLINE" : "LINEAR");
-        out.samplers.push_back(std::move(sampler));
+        const int sampler =
+            addSampler(out, times, weights, TINYGLTF_TYPE_SCALAR, channel.interpolation);
         // Every instance of the mesh follows the same sampler.
         for (int node : meshNodes_[channel.mesh]) {
           tinygltf::AnimationChannel target;
-          target.sampler = static_cast<int>(out.samplers.size() - 1);
+          target.sampler = sampler;
           target.target_node = node;
           target.target_path = "weights";
           out.channels.push_back(std::move(target));
         }
+      }
+      for (size_t c = 0; c < animation.transformChannels.size(); ++c) {
+        writeTransformChannel(
+            animation.transformChannels[c],
+            "animation '" + animation.name + "' transform channel " + std::to_string(c), out);
       }
       // tinygltf would write an animation without channels, which glTF forbids.
       if (!out.channels.empty()) gltf_.animations.push_back(std::move(out));
     }
   }
 
+  void writeTransformChannel(const TransformChannel& channel, const std::string& where,
+                             tinygltf::Animation& out) {
+    if (channel.transform < 0 ||
+        static_cast<size_t>(channel.transform) >= model_.transforms.size()) {
+      fail(where, "transform " + std::to_string(channel.transform) + " does not exist");
+    }
+    const Transform& transform = model_.transforms[channel.transform];
+    const std::vector<float> times = keyTimes(channel.times, where);
+    const bool cubic = channel.interpolation == MorphWeightChannel::Interpolation::CubicSpline;
+    const bool rotation = channel.path == TransformChannel::Path::Rotation;
+    const size_t components = rotation ? 4 : 3;
+    const size_t perKey = cubic ? 3 : 1;  // in-tangent, value, out-tangent
+    if (channel.values.size() != times.size() * components * perKey) {
+      fail(where + " values", "has " + std::to_string(channel.values.size()) +
+                                  " values, expected " +
+                                  std::to_string(times.size() * components * perKey));
+    }
+    for (double v : channel.values) {
+      if (!std::isfinite(v)) fail(where + " values", "has a non-finite value");
+    }
+    std::vector<double> values = channel.values;
+    for (size_t key = 0; key < times.size(); ++key) {
+      double* value = values.data() + (key * perKey + (cubic ? 1 : 0)) * components;
+      if (channel.path == TransformChannel::Path::Translation) {
+        // The node's translation is T + C (see writeNodes); tangents need no offset.
+        for (int i = 0; i < 3; ++i) value[i] += transform.center[i];
+      } else if (rotation) {
+        Eigen::Map<Eigen::Vector4d> q(value);
+        if (!(q.norm() > 1e-12)) {
+          fail(where + " values", "key " + std::to_string(key) + " has a zero quaternion");
+        }
+        q.normalize();  // glTF requires unit quaternions
+      }
+    }
+    std::vector<float> floats(values.begin(), values.end());
+    for (float v : floats) {
+      if (!std::isfinite(v)) fail(where + " values", "has a value too large for a 32-bit float");
+    }
+    tinygltf::AnimationChannel target;
+    target.sampler =
+        addSampler(out, times, floats, rotation ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3,
+                   channel.interpolation);
+    target.target_node = channel.transform;
+    target.target_path = channel.path == TransformChannel::Path::Translation ? "translation"
+                         : rotation                                          ? "rotation"
+                                                                             : "scale";
+    out.channels.push_back(std::move(target));
+  }
+
   void writeScene() {
     tinygltf::Scene scene;
     scene.nodes = model_.roots;
+    tinygltf::Value::Object ours = extras_;
     if (!model_.featurePoints.empty()) {
       tinygltf::Value::Object points;
       for (const auto& [id, fp] : model_.featurePoints) {
@@ -372,9 +467,11 @@ class Writer {
         }
         points[id] = tinygltf::Value(std::move(entry));
       }
-      scene.extras = tinygltf::Value(tinygltf::Value::Object{
-          {kExtrasKey, tinygltf::Value(tinygltf::Value::Object{
-                           {"featurePoints", tinygltf::Value(std::move(points))}})}});
+      ours["featurePoints"] = tinygltf::Value(std::move(points));
+    }
+    if (!ours.empty()) {
+      scene.extras =
+          tinygltf::Value(tinygltf::Value::Object{{kExtrasKey, tinygltf::Value(std::move(ours))}});
     }
     gltf_.scenes.push_back(std::move(scene));
     gltf_.defaultScene = 0;
@@ -382,6 +479,7 @@ class Writer {
 
   const FaceModel& model_;
   const std::string& fileName_;
+  const tinygltf::Value::Object& extras_;  // more of scenes[0].extras.mpeg4face
   tinygltf::Model gltf_;
   std::vector<unsigned char> blob_;
   std::vector<std::vector<int>> meshNodes_;  // nodes instancing each mesh
@@ -389,7 +487,8 @@ class Writer {
 
 }  // namespace
 
-void writeGltf(const FaceModel& model, const std::filesystem::path& path) {
+void gltf_internal::writeGltf(const FaceModel& model, const std::filesystem::path& path,
+                              const tinygltf::Value::Object& extras) {
   const std::string fileName = path.string();
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
@@ -403,7 +502,7 @@ void writeGltf(const FaceModel& model, const std::filesystem::path& path) {
   } catch (const Error& e) {
     throw Error(fileName, 0, e.field(), e.reason());
   }
-  const tinygltf::Model gltf = Writer(model, fileName).build();
+  const tinygltf::Model gltf = Writer(model, fileName, extras).build();
   std::ostringstream out;
   try {
     tinygltf::TinyGLTF writer;
@@ -416,6 +515,10 @@ void writeGltf(const FaceModel& model, const std::filesystem::path& path) {
     throw Error(fileName, 0, {}, std::string("cannot serialize the model: ") + e.what());
   }
   writeFileAtomically(path, out.str());
+}
+
+void writeGltf(const FaceModel& model, const std::filesystem::path& path) {
+  gltf_internal::writeGltf(model, path, {});
 }
 
 }  // namespace mpeg4face

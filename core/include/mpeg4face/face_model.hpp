@@ -72,9 +72,22 @@ struct MorphWeightChannel {
   std::vector<double> times;    // seconds, increasing
   std::vector<double> weights;  // times.size() * targetCount (x3 for CubicSpline)
 };
+// glTF-style animation of one field of a Transform (a node translation / rotation / scale
+// channel). The values are the Transform's own fields, so an animated rotation or scale
+// stays about the Transform's centre.
+struct TransformChannel {
+  int transform = 0;  // index into FaceModel::transforms
+  enum class Path { Translation, Rotation, Scale } path = Path::Rotation;
+  MorphWeightChannel::Interpolation interpolation = MorphWeightChannel::Interpolation::Linear;
+  std::vector<double> times;  // seconds, increasing
+  // Per key x y z (translation, scale) or the quaternion x y z w (rotation, glTF's order);
+  // x3 for CubicSpline (in-tangent, value, out-tangent).
+  std::vector<double> values;
+};
 struct MorphWeightAnimation {
   std::string name;
   std::vector<MorphWeightChannel> channels;
+  std::vector<TransformChannel> transformChannels;
 };
 
 struct FaceModel {

@@ -17,8 +17,8 @@ namespace mpeg4face {
 // merged into one IndexedFaceSet named after the mesh or "mesh<N>"; strips and fans become
 // triangles; points and lines add their vertices but no faces), POSITION / NORMAL /
 // TEXCOORD_0, morph target POSITION deltas (sparse accessors too) named by
-// mesh.extras.targetNames (else "target<N>"), mesh.weights, animations of morph weights
-// (node translation / rotation / scale channels are ignored), and the project's own data
+// mesh.extras.targetNames (else "target<N>"), mesh.weights, animations of morph weights and
+// of node translation / rotation / scale (TransformChannel), and the project's own data
 // under scenes[s].extras.mpeg4face:
 //   {"featurePoints": {"2.1": {"mesh": "<mesh name>", "vertex": 10},
 //                      "9.3": {"position": [x, y, z]}}}
@@ -41,9 +41,11 @@ FaceModel parseGltf(std::string_view bytes, const std::string& fileName,
 // vertex is split into one glTF vertex per (vertex, UV) pair, with the original number kept
 // in the `_MPEG4FACE_VERTEX` attribute (SCALAR FLOAT; glTF forbids UNSIGNED_INT attributes)
 // so that readGltf welds them back into the same vertices, faces and texCoordIndex layout.
-// A Transform's centre is folded into the translation (T + C - R S C: glTF has no centre);
-// a Transform holding several meshes gets one child node per mesh, marked in its extras so
-// readGltf folds them back. Normals are normalized (glTF requires unit length). Animation
+// glTF has no centre: a Transform with one becomes a node T + C, R, S whose only child, a
+// helper node translated by -C, holds its meshes and children (so rotating or scaling the
+// node, by an animation or in a modeller, stays about the centre; its translation channels
+// get + C). A Transform holding several meshes gets one child node per mesh. Helper nodes
+// are marked in their extras so readGltf folds them back. Normals are normalized (glTF requires unit length). Animation
 // channels of a mesh no transform holds cannot be written (glTF animates nodes): Error.
 void writeGltf(const FaceModel& model, const std::filesystem::path& path);
 

@@ -15,7 +15,7 @@ Contents (what tests/cpp/test_gltf.cpp checks):
 - nodes: "AnimatedMorphCube" (root, rotation) -> "Cube" (mesh, translation + scale) and
   "Marker" (a TRS given as a column-major matrix);
 - animation "Square": a LINEAR weights channel on "Cube" (5 keys) and a rotation channel on
-  the root, which mpeg4face ignores;
+  the root;
 - one buffer, embedded as a base64 data: URI.
 
 Run from anywhere: python3 tests/data/gltf/make_morph_cube.py
