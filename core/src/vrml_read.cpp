@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <variant>
 #include <vector>
 
@@ -24,9 +25,10 @@ namespace {
 namespace names = vrml_names;
 
 constexpr int kMaxDepth = 256;
-// Numbers copied into meshes (coordinates, normals, texture coordinates): a Coordinate that
-// many IndexedFaceSets USE is copied into each, so this, not the file size, bounds memory.
-constexpr std::size_t kMaxMeshNumbers = std::size_t{1} << 25;
+// A Coordinate (Normal, TextureCoordinate) that several IndexedFaceSets USE is copied into
+// each mesh. The first copy costs what the file holds; the numbers of the further copies
+// are bounded by this, so that a small file cannot ask for unbounded memory.
+constexpr std::size_t kMaxCopiedNumbers = std::size_t{1} << 24;
 
 // ---------------------------------------------------------------------------------------
 // Lexer
@@ -829,23 +831,18 @@ class Parser {
   }
   int int32(std::string_view field) {
     const Token t = numberToken(field);
-    std::string_view s = t.text;
-    const bool negative = s[0] == '-';
-    if (negative || s[0] == '+') s.remove_prefix(1);
+    const std::string_view s = t.text;
     if (s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {
-      // VRML97 allows hexadecimal SFInt32; it gives the 32-bit pattern (0xFFFFFFFF is -1).
+      // VRML97 allows hexadecimal SFInt32: the 32-bit pattern, so 0xFFFFFFFF is -1.
       std::uint32_t bits = 0;
       const char* last = s.data() + s.size();
       const auto [end, ec] = std::from_chars(s.data() + 2, last, bits, 16);
       if (ec != std::errc() || end != last) {
-        fail(t.line, field, "integer expected, found " + text::quote(t.text));
+        fail(t.line, field, "integer expected, found " + text::quote(s));
       }
-      const auto value = static_cast<std::int32_t>(bits);
-      if (negative && value == INT32_MIN)
-        fail(t.line, field, "integer out of range: " + text::quote(t.text));
-      return negative ? -value : value;
+      return static_cast<std::int32_t>(bits);
     }
-    return text::parseInt(t.text, lex_.file(), t.line, field);
+    return text::parseInt(s, lex_.file(), t.line, field);
   }
   bool boolean(std::string_view field) {
     const Token t = lex_.take();
@@ -931,7 +928,7 @@ class Parser {
     lex_.take();
   }
   void skipSingle(std::string_view field, bool inList) {
-    const Token& t = lex_.peek();
+    const Token t = lex_.peek();
     if (t.kind == Tok::Number) {
       // A run of numbers: SFVec3f, SFRotation, SFImage ... A field name cannot start with a
       // digit, so the run ends where the next field begins.
@@ -1021,20 +1018,17 @@ class Builder {
     }
   }
 
-  // Counts `numbers` against kMaxMeshNumbers.
-  void spend(std::size_t numbers, const Node& node) {
-    meshNumbers_ += numbers;
-    if (meshNumbers_ > kMaxMeshNumbers) {
-      fail(node.line, node.type,
-           "the meshes would hold more than " + std::to_string(kMaxMeshNumbers) +
-               " numbers (a USE'd Coordinate counts once per IndexedFaceSet)");
-    }
-  }
-
   template <typename Points>
   Points points(const NodePtr& node) {
     const PointsNode& p = std::get<PointsNode>(node->data);
-    spend(p.values.size(), *node);
+    if (!copied_.insert(node.get()).second) {  // a further use of a USE'd node
+      copiedNumbers_ += p.values.size();
+      if (copiedNumbers_ > kMaxCopiedNumbers) {
+        fail(node->line, node->type,
+             "USE'd by so many IndexedFaceSets that the copies would hold more than " +
+                 std::to_string(kMaxCopiedNumbers) + " numbers");
+      }
+    }
     return Eigen::Map<const Points>(p.values.data(), p.count(), p.dimension);
   }
 
@@ -1152,7 +1146,8 @@ class Builder {
   std::string file_;
   MpegFace face_;
   std::unordered_map<const Node*, int> meshOf_, transformOf_;
-  std::size_t meshNumbers_ = 0;
+  std::unordered_set<const Node*> copied_;  // the points nodes copied into a mesh so far
+  std::size_t copiedNumbers_ = 0;
 };
 
 void checkHeader(std::string_view text, const std::string& file) {

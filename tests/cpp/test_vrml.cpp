@@ -559,11 +559,67 @@ TEST(Vrml, ReadsAnOrdinaryScene) {
       sameExactly(brow.normal, Points3::Constant(5, 3, 0).rowwise() + Eigen::RowVector3d(0, 0, 1)));
   const IndexedFaceSet& chin = m.meshes[2];  // top-level Shape: held by no transform
   EXPECT_EQ(chin.name, "Chin");
-  EXPECT_EQ(chin.coordIndex, (std::vector<int>{0, 1, 2, -1}));
+  EXPECT_EQ(chin.coordIndex, (std::vector<int>{0, 1, 2, -1}));  // given in hexadecimal
   // texCoord without texCoordIndex and not one per vertex: indexed by coordIndex.
   EXPECT_EQ(chin.texCoord.rows(), 4);
   EXPECT_EQ(chin.texCoordIndex, chin.coordIndex);
   EXPECT_NO_THROW(m.validate());
+}
+
+// A small file cannot make the reader copy a USE'd Coordinate without bound.
+TEST(Vrml, CopiesOfAUsedCoordinateAreBounded) {
+  const int points = 100000;  // 300,000 numbers per further copy: 56 copies exceed 2^24
+  std::string text =
+      "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord DEF C Coordinate { point [";
+  for (int i = 0; i < points; ++i) text += " 0 0 0";
+  text += " ] } } }\n";
+  const std::string use = "Shape { geometry IndexedFaceSet { coord USE C } }\n";
+  std::string fits = text;
+  for (int i = 0; i < 55; ++i) fits += use;
+  EXPECT_EQ(parseVrml(fits, "fits.wrl").faceSceneGraph.meshes.size(), 56u);
+  const Error e = errorOf([&] { parseVrml(fits + use, "too_many.wrl"); });
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_EQ(e.field(), "Coordinate");
+  EXPECT_TRUE(contains(e.reason(), "more than 16777216 numbers")) << e.what();
+}
+
+// VRML97 syntax that our writer does not use but other files do.
+TEST(Vrml, ParserDetails) {
+  // An MF field given as one value without brackets; a node body with a ROUTE and a PROTO;
+  // a DEF name redefined (the later one counts for USE); fields of unknown nodes of every
+  // kind; an empty file but for the header.
+  const MpegFace face = parseVrml(
+      "#VRML V2.0 utf8\n"
+      "DEF P Coordinate { point 9 9 9 }\n"
+      "DEF P Coordinate { point 1 2 3 }\n"
+      "Transform {\n"
+      "  PROTO Inner [ ] { Group {} }\n"
+      "  children Shape { geometry IndexedFaceSet { coord USE P coordIndex 0 } }\n"
+      "  ROUTE a.b TO c.d\n"
+      "}\n"
+      "Unknown { s \"x\" m [ \"a\" \"b\" ] v 1 2 3 r [ 1 2, 3 4 ] b TRUE n NULL c Box {}\n"
+      "  d [ Group {} USE P ] i 0x10 }\n",
+      "details.wrl");
+  const FaceModel& m = face.faceSceneGraph;
+  ASSERT_EQ(m.meshes.size(), 1u);
+  EXPECT_EQ(m.meshes[0].coord, (Points3(1, 3) << 1, 2, 3).finished());
+  EXPECT_EQ(m.meshes[0].coordIndex, std::vector<int>{0});
+  EXPECT_EQ(m.transforms.size(), 1u);
+  EXPECT_TRUE(parseVrml("#VRML V2.0 utf8\n", "empty.wrl").faceSceneGraph.meshes.empty());
+  // A UTF-8 byte-order mark and CRLF line endings; lines still count.
+  const Error e = errorOf([] {
+    parseVrml("\xEF\xBB\xBF#VRML V2.0 utf8\r\n\r\nTransform { scale 1 x 1 }\r\n", "crlf.wrl");
+  });
+  EXPECT_EQ(e.line(), 3);
+  EXPECT_EQ(e.field(), "Transform.scale");
+  // Decoding of DEF names from other files: a '%' not followed by two hex digits stays.
+  const MpegFace named = parseVrml(
+      "#VRML V2.0 utf8\nDEF off%_x%2 Transform {}\nDEF a%_2b Group {}\n"
+      "DEF Left%20Eye%_3 Group {}\n",
+      "n.wrl");
+  EXPECT_EQ(named.faceSceneGraph.transforms[0].name, "off%_x%2");
+  EXPECT_EQ(named.faceSceneGraph.transforms[1].name, "a%_2b");
+  EXPECT_EQ(named.faceSceneGraph.transforms[2].name, "Left Eye");
 }
 
 // A VRML reader that is not ours accepts the file without a warning, and what it writes back

@@ -38,8 +38,8 @@ void writeVrml(const MpegFace& face, const std::filesystem::path& path);
 // numbered depth-first, meshes in the order they first appear. Throws mpeg4face::Error
 // naming the file, line and field (e.g. "Transform.translation") for anything malformed, an
 // unknown field of a node it reads, a coordIndex out of range, a Transform used twice,
-// a scaleOrientation with non-uniform scale, nesting deeper than 256 nodes, or meshes with
-// more than 2^25 numbers in all.
+// a scaleOrientation with non-uniform scale, nesting deeper than 256 nodes, or USE'd
+// Coordinates whose further copies would hold more than 2^24 numbers.
 MpegFace readVrml(const std::filesystem::path& path);
 // The same from text in memory; `fileName` is used in messages.
 MpegFace parseVrml(std::string_view text, const std::string& fileName);
