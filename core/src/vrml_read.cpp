@@ -239,7 +239,8 @@ struct IndexedFaceSetNode {
   std::vector<int> coordIndex, normalIndex, texCoordIndex;
   bool ccw = true;
   bool normalPerVertex = true;
-  bool keepNormals = false;  // set by finish(): the normals are one per vertex
+  bool keepNormals = false;   // set by finish(): the normals are one per vertex
+  bool keepTexCoord = false;  // set by finish(): texCoordIndex or one per vertex
 };
 struct ShapeNode {
   NodePtr geometry;
@@ -711,6 +712,8 @@ class Parser {
       // Texture coordinates indexed by coordIndex, but not one per vertex: say so explicitly.
       checkLayout(ifs.texCoordIndex = ifs.coordIndex, "texCoord", texCount);
     }
+    // Without faces such texture coordinates belong to nothing.
+    ifs.keepTexCoord = ifs.texCoord && (!ifs.texCoordIndex.empty() || texCount == vertexCount);
     // The face model holds one normal per vertex; other layouts are dropped (they can be
     // recomputed) rather than misassigned.
     ifs.keepNormals = ifs.normal && ifs.normalPerVertex && normalCount == vertexCount &&
@@ -1041,7 +1044,7 @@ class Builder {
     if (ifs.coord) mesh.coord = points<Points3>(ifs.coord);
     mesh.coordIndex = ifs.coordIndex;
     if (ifs.keepNormals) mesh.normal = points<Points3>(ifs.normal);
-    if (ifs.texCoord) {
+    if (ifs.keepTexCoord) {
       mesh.texCoord = points<Points2>(ifs.texCoord);
       mesh.texCoordIndex = ifs.texCoordIndex;
     }

@@ -606,6 +606,15 @@ TEST(Vrml, ParserDetails) {
   EXPECT_EQ(m.meshes[0].coordIndex, std::vector<int>{0});
   EXPECT_EQ(m.transforms.size(), 1u);
   EXPECT_TRUE(parseVrml("#VRML V2.0 utf8\n", "empty.wrl").faceSceneGraph.meshes.empty());
+  // Texture coordinates that are not one per vertex, on a mesh without faces: nothing to
+  // index them with, so they are dropped (found by fuzz_vrml).
+  const MpegFace noFaces = parseVrml(
+      "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet {\n"
+      "  coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] }\n"
+      "  texCoord TextureCoordinate { point [ 0 0, 1 0, 0 1, 1 1 ] } } }\n",
+      "no_faces.wrl");
+  EXPECT_EQ(noFaces.faceSceneGraph.meshes.at(0).texCoord.rows(), 0);
+  EXPECT_NO_THROW(noFaces.faceSceneGraph.validate());
   // A UTF-8 byte-order mark and CRLF line endings; lines still count.
   const Error e = errorOf([] {
     parseVrml("\xEF\xBB\xBF#VRML V2.0 utf8\r\n\r\nTransform { scale 1 x 1 }\r\n", "crlf.wrl");
