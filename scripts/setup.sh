@@ -12,6 +12,7 @@ packages=(
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
   blender xvfb xauth                        # the add-on, headless and under a virtual display
   nodejs npm                                # gltf-validator
+  view3dscene                               # tovrmlx3d, a third-party VRML97 reader for our .wrl
 )
 
 missing=()

@@ -10,6 +10,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/obj.hpp"
+#include "mpeg4face/vrml.hpp"
 #include "mpeg4face/wfm.hpp"
 
 namespace mpeg4face {
@@ -64,8 +65,9 @@ FaceModel readModel(const std::filesystem::path& path) {
   if (ext == ".gltf" || ext == ".glb") return readGltf(path);
   if (ext == ".obj") return readObj(path);
   if (ext == ".wfm") return candideToFaceModel(readWfm(path));
+  if (ext == ".wrl") return readVrml(path).faceSceneGraph;
   throw Error(path.string(), 0, {},
-              "unknown model format '" + ext + "' (expected .gltf, .glb, .obj or .wfm)");
+              "unknown model format '" + ext + "' (expected .gltf, .glb, .obj, .wfm or .wrl)");
 }
 
 }  // namespace mpeg4face

@@ -12,7 +12,7 @@
 
 namespace mpeg4face {
 
-// Any supported model by extension: .gltf, .glb, .obj, .wfm.
+// Any supported model by extension: .gltf, .glb, .obj, .wfm, .wrl (the faceSceneGraph).
 FaceModel readModel(const std::filesystem::path& path);
 
 // Writes `contents` via a temporary file in the same folder and a rename.
