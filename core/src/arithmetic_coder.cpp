@@ -1,0 +1,202 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "mpeg4face/arithmetic_coder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "mpeg4face/error.hpp"
+
+namespace mpeg4face {
+namespace {
+
+constexpr uint32_t kQ1 = 16384;
+constexpr uint32_t kQ2 = 32768;
+constexpr uint32_t kQ3 = 49152;
+constexpr uint32_t kTop = 65535;
+// Inside a segment a 1 is stuffed after this many consecutive 0 bits, so no segment can
+// emulate a start code (23 zeros and a 1).
+constexpr int kMaxZeroRun = 22;
+
+}  // namespace
+
+AdaptiveModel::AdaptiveModel(int symbolCount) {
+  if (symbolCount < 1 || symbolCount > kMaxSymbols) {
+    throw Error("adaptive model size " + std::to_string(symbolCount) + " is not in 1.." +
+                std::to_string(kMaxSymbols));
+  }
+  counts_.resize(static_cast<size_t>(symbolCount));
+  tree_.resize(counts_.size() + 1);
+  while (topBit_ * 2 <= counts_.size()) topBit_ *= 2;
+  reset();
+}
+
+void AdaptiveModel::reset() {
+  std::fill(counts_.begin(), counts_.end(), 1u);
+  rebuild();
+}
+
+void AdaptiveModel::rebuild() {
+  const size_t n = counts_.size();
+  std::fill(tree_.begin(), tree_.end(), 0u);
+  total_ = 0;
+  for (size_t i = 1; i <= n; ++i) {
+    tree_[i] += counts_[i - 1];
+    total_ += counts_[i - 1];
+    const size_t parent = i + (i & (~i + 1));
+    if (parent <= n) tree_[parent] += tree_[i];
+  }
+}
+
+uint32_t AdaptiveModel::countBelow(int symbol) const {
+  uint32_t sum = 0;
+  for (size_t i = static_cast<size_t>(symbol); i > 0; i &= i - 1) sum += tree_[i];
+  return sum;
+}
+
+int AdaptiveModel::find(uint32_t target) const {
+  size_t pos = 0;
+  for (size_t step = topBit_; step > 0; step >>= 1) {
+    if (pos + step < tree_.size() && tree_[pos + step] <= target) {
+      pos += step;
+      target -= tree_[pos];
+    }
+  }
+  return static_cast<int>(pos);
+}
+
+void AdaptiveModel::update(int symbol) {
+  if (total_ == kMaxTotal) {
+    for (uint32_t& c : counts_) c = (c + 1) / 2;
+    rebuild();
+  }
+  ++counts_[static_cast<size_t>(symbol)];
+  ++total_;
+  for (size_t i = static_cast<size_t>(symbol) + 1; i < tree_.size(); i += i & (~i + 1)) {
+    ++tree_[i];
+  }
+}
+
+double AdaptiveModel::idealBits(int symbol) const {
+  return -std::log2(static_cast<double>(count(symbol)) / static_cast<double>(total_));
+}
+
+void ArithmeticEncoder::encode(int symbol, AdaptiveModel& model) {
+  const uint32_t total = model.total();
+  // The reference's cumulative table counts from the top: symbol s spans
+  // [cumul(s + 1), cumul(s)) with cumul(s) = total - countBelow(s).
+  const uint32_t upper = total - model.countBelow(symbol);
+  const uint32_t lower = upper - model.count(symbol);
+  const uint32_t length = high_ - low_ + 1;
+  high_ = low_ - 1 + length * upper / total;
+  low_ += length * lower / total;
+  for (;;) {
+    if (high_ < kQ2) {
+      emit(false);
+    } else if (low_ >= kQ2) {
+      emit(true);
+      low_ -= kQ2;
+      high_ -= kQ2;
+    } else if (low_ >= kQ1 && high_ < kQ3) {
+      ++pending_;
+      low_ -= kQ1;
+      high_ -= kQ1;
+    } else {
+      break;
+    }
+    low_ *= 2;
+    high_ = 2 * high_ + 1;
+  }
+  model.update(symbol);
+}
+
+void ArithmeticEncoder::flush() {
+  ++pending_;
+  emit(low_ >= kQ1);
+  low_ = 0;
+  high_ = kTop;
+  zeroRun_ = 0;
+}
+
+void ArithmeticEncoder::emit(bool bit) {
+  put(bit);
+  for (; pending_ > 0; --pending_) put(!bit);
+}
+
+void ArithmeticEncoder::put(bool bit) {
+  if (zeroRun_ == kMaxZeroRun) {
+    out_.writeBit(true);
+    zeroRun_ = 0;
+  }
+  out_.writeBit(bit);
+  zeroRun_ = bit ? 0 : zeroRun_ + 1;
+}
+
+ArithmeticDecoder::ArithmeticDecoder(BitReader& in) : in_(in), start_(in.position()) {
+  for (int i = 0; i < 16; ++i) value_ = 2 * value_ + (get() ? 1 : 0);
+}
+
+bool ArithmeticDecoder::get() {
+  bool bit = in_.readBitOrZero();
+  if (zeroRun_ == kMaxZeroRun) {
+    if (bit) {
+      bit = in_.readBitOrZero();  // the stuffed 1 is not a coder bit
+      zeroRun_ = 0;
+    } else if (badStuffing_ == UINT64_MAX) {
+      // Legal only past the segment's end (where plain fields follow); finish() decides.
+      badStuffing_ = in_.position() - 1;
+    }
+  }
+  zeroRun_ = bit ? 0 : zeroRun_ + 1;
+  ends_[bitsRead_ % 16] = in_.position();
+  ++bitsRead_;
+  return bit;
+}
+
+int ArithmeticDecoder::decode(AdaptiveModel& model) {
+  const uint32_t total = model.total();
+  const uint32_t length = high_ - low_ + 1;
+  // value_ stays within [low_, high_] whatever the input bits, so cum < total.
+  const uint32_t cum = ((value_ - low_ + 1) * total - 1) / length;
+  const int symbol = model.find(total - 1 - cum);
+  const uint32_t upper = total - model.countBelow(symbol);
+  const uint32_t lower = upper - model.count(symbol);
+  high_ = low_ - 1 + length * upper / total;
+  low_ += length * lower / total;
+  for (;;) {
+    if (high_ < kQ2) {
+      // nothing to subtract
+    } else if (low_ >= kQ2) {
+      value_ -= kQ2;
+      low_ -= kQ2;
+      high_ -= kQ2;
+    } else if (low_ >= kQ1 && high_ < kQ3) {
+      value_ -= kQ1;
+      low_ -= kQ1;
+      high_ -= kQ1;
+    } else {
+      break;
+    }
+    low_ *= 2;
+    high_ = 2 * high_ + 1;
+    value_ = 2 * value_ + (get() ? 1 : 0);
+  }
+  model.update(symbol);
+  return symbol;
+}
+
+void ArithmeticDecoder::finish(std::string_view element) {
+  // The encoder wrote one bit per renormalisation plus 2 at the flush; the decoder read 16
+  // ahead plus one per renormalisation: the segment ended 14 coder bits ago.
+  const uint64_t end = ends_[(bitsRead_ - 15) % 16];
+  if (end > in_.size()) {
+    in_.failAt(start_, element,
+               "the arithmetic-coded segment starting here runs past the end of the data");
+  }
+  if (badStuffing_ < end) {
+    in_.failAt(badStuffing_, element, "22 zero bits not followed by a stuffed 1");
+  }
+  in_.seek(end);
+}
+
+}  // namespace mpeg4face
