@@ -22,5 +22,6 @@ struct Command {
 };
 
 int runInfo(const std::vector<std::string>& args);
+int runPsnr(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli

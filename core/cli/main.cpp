@@ -20,6 +20,12 @@ constexpr std::array kCommands{
             "                        fp,x,y,z, or named columns)\n"
             "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
             mpeg4face::cli::runInfo},
+    Command{"psnr", "compare a decoded .fap stream with its original: PSNR, per-FAP errors",
+            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--json]\n"
+            "  PSNR as Tao et al. (1999) eq. (8) defines it (docs/fap-format.md), and each\n"
+            "  FAP's range, largest and RMS error; both streams need the same frames\n"
+            "  --json  print one JSON object (keys psnr_db, psnr_faps, faps, extra_faps)\n",
+            mpeg4face::cli::runPsnr},
 };
 
 void printHelp(std::FILE* out) {
