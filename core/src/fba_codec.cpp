@@ -4,6 +4,7 @@
 // plane to its mode (fba_predictive.cpp).
 #include "mpeg4face/fba_codec.hpp"
 
+#include <cstdio>
 #include <string>
 
 #include "fba_predictive.hpp"
@@ -16,6 +17,12 @@ namespace {
 constexpr std::array<std::pair<FapCodingMode, std::string_view>, 1> kModeNames{{
     {FapCodingMode::Predictive, "predictive"},
 }};
+
+std::string hertz(double fps) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", fps);
+  return text;
+}
 
 std::string frameName(const FapFrame& frame, size_t index) {
   return "frame " + std::to_string(index) + " (number " + std::to_string(frame.number) + ")";
@@ -144,7 +151,7 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
         const double fps = fba::framesPerSecond(*header.frameRate);
         if (rate && *rate != fps) {
           in.failAt(planeStart, "frame_rate",
-                    "changes from " + std::to_string(*rate) + " to " + std::to_string(fps) +
+                    "changes from " + hertz(*rate) + " to " + hertz(fps) +
                         " frames per second (a FapStream has one rate)");
         }
         rate = fps;
