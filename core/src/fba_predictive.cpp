@@ -250,6 +250,13 @@ class PredictiveEncoder {
     const double codeBits = markerBitsPerFlag() + 5.0 * static_cast<double>(masked.size());
     const int64_t counts[2] = {1, static_cast<int64_t>(end - begin) - 1};
 
+    // Reference decoders take an intra range [0, 0] of FAP 4 for "ranges not set yet" and put
+    // every range back to its default at the next intra plane; so FAP 4 keeps Imax > 0.
+    const auto fitted = [&](int inter, bool max, size_t i) {
+      const uint32_t code = max ? fitCode(needMax[inter][i], options_.fapQuant)
+                                : fitCode(-needMin[inter][i], options_.fapQuant);
+      return !inter && max && i == 3 ? std::max(code, 1u) : code;
+    };
     std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes{};
     for (int inter = 0; inter < 2; ++inter) {
       const auto& current = inter ? state_.interRange : state_.intraRange;
@@ -261,11 +268,9 @@ class PredictiveEncoder {
         bool fits = true;
         for (size_t i : masked) {
           const int max =
-              sendMax ? levelsOf(fitCode(needMax[inter][i], options_.fapQuant), options_.fapQuant)
-                      : current[i].max;
+              sendMax ? levelsOf(fitted(inter, true, i), options_.fapQuant) : current[i].max;
           const int min =
-              sendMin ? -levelsOf(fitCode(-needMin[inter][i], options_.fapQuant), options_.fapQuant)
-                      : current[i].min;
+              sendMin ? -levelsOf(fitted(inter, false, i), options_.fapQuant) : current[i].min;
           fits = (sendMax || max >= needMax[inter][i]) && (sendMin || min <= needMin[inter][i]);
           bits += learningBits(max - min + 1, counts[inter]);
           if (!fits) break;
@@ -276,12 +281,8 @@ class PredictiveEncoder {
         }
       }
       for (size_t i : masked) {
-        if (bestCombo & 1) {
-          codes[inter ? kInterMax : kIntraMax][i] = fitCode(needMax[inter][i], options_.fapQuant);
-        }
-        if (bestCombo & 2) {
-          codes[inter ? kInterMin : kIntraMin][i] = fitCode(-needMin[inter][i], options_.fapQuant);
-        }
+        if (bestCombo & 1) codes[inter ? kInterMax : kIntraMax][i] = fitted(inter, true, i);
+        if (bestCombo & 2) codes[inter ? kInterMin : kIntraMin][i] = fitted(inter, false, i);
       }
     }
     return codes;
