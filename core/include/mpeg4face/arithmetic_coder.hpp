@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The adaptive arithmetic coder of the FBA bitstream: a 16-bit multi-symbol coder of the
+// H.263 Annex E family (q1 = 16384, q2 = 32768, q3 = 49152, top = 65535) with adaptive
+// cumulative-frequency models, and the start-code emulation prevention of the FBA syntax (a 1
+// stuffed after 22 consecutive 0 bits inside a coder segment). A segment is the bits between
+// a coder's start and its flush; plain fields may follow a flushed segment directly.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "mpeg4face/bit_io.hpp"
+
+namespace mpeg4face {
+
+// Symbols 0..n-1 with adaptive counts, the reference's rules: every count starts at 1, a coded
+// symbol's count grows by 1, and when the total has reached 16383 all counts are first halved
+// (rounding up). The coder maps symbol 0 to the top of the interval, symbol n-1 to the bottom
+// (the reference's descending cumulative table). Counts are kept in a Fenwick tree so a symbol
+// costs O(log n) even for the large default FAP ranges, and only from the first update on: a
+// fresh or reset model costs O(1).
+class AdaptiveModel {
+ public:
+  static constexpr uint32_t kMaxTotal = 16383;
+  // Halving must bring the total below kMaxTotal again, and every symbol needs a count.
+  static constexpr int kMaxSymbols = 16382;
+
+  // Throws mpeg4face::Error if symbolCount is not in 1..kMaxSymbols.
+  explicit AdaptiveModel(int symbolCount = 1);
+
+  int symbolCount() const { return symbolCount_; }
+  // Back to all counts 1.
+  void reset() { fresh_ = true; }
+  uint32_t total() const { return fresh_ ? static_cast<uint32_t>(symbolCount_) : total_; }
+  uint32_t count(int symbol) const { return fresh_ ? 1 : counts_[static_cast<size_t>(symbol)]; }
+  // Sum of the counts of the symbols below `symbol`.
+  uint32_t countBelow(int symbol) const;
+  // The symbol s with countBelow(s) <= target < countBelow(s) + count(s); target < total().
+  int find(uint32_t target) const;
+  // The same, also giving countBelow of the symbol found.
+  int find(uint32_t target, uint32_t& below) const;
+  // Adds the coded symbol (halving first when the total has reached kMaxTotal).
+  void update(int symbol);
+  // -log2(count / total): what an ideal coder would spend on `symbol` now, in bits.
+  double idealBits(int symbol) const;
+
+ private:
+  void rebuild();
+
+  int symbolCount_;
+  bool fresh_ = true;  // all counts 1; counts_ and tree_ not filled in yet
+  std::vector<uint32_t> counts_;
+  std::vector<uint32_t> tree_;  // Fenwick tree over counts_, 1-based
+  uint32_t total_ = 0;
+  size_t topBit_ = 1;  // highest power of two <= symbolCount
+};
+
+class ArithmeticEncoder {
+ public:
+  // Starts a segment at the writer's current position.
+  explicit ArithmeticEncoder(BitWriter& out) : out_(out) {}
+  // Codes `symbol` (0..model.symbolCount()-1) and then adapts the model to it.
+  void encode(int symbol, AdaptiveModel& model);
+  // Codes `symbol` as a fresh AdaptiveModel(symbolCount) would (all counts 1), for a symbol
+  // that is the only one its model codes before a reset (the FAPs of an intra plane).
+  void encodeUniform(int symbol, int symbolCount);
+  // Ends the segment with the 2 (+ pending) bits that pin the code value down, so the decoder
+  // needs nothing after them; the next encode() starts a new segment.
+  void flush();
+
+ private:
+  // Narrows the interval to [lower, upper) of total and writes the settled bits.
+  void narrow(uint32_t lower, uint32_t upper, uint32_t total);
+  void emit(bool bit);  // one coder bit with its pending opposite bits
+  void put(bool bit);   // one bit with the stuffing rule
+
+  BitWriter& out_;
+  uint32_t low_ = 0;
+  uint32_t high_ = 65535;
+  uint32_t pending_ = 0;
+  int zeroRun_ = 0;
+};
+
+class ArithmeticDecoder {
+ public:
+  // Starts a segment at the reader's current position (reads 16 bits ahead).
+  explicit ArithmeticDecoder(BitReader& in);
+  // Decodes a symbol and adapts the model to it, as the encoder did.
+  int decode(AdaptiveModel& model);
+  // The counterpart of ArithmeticEncoder::encodeUniform.
+  int decodeUniform(int symbolCount);
+  // Ends the segment: moves the reader to just after the encoder's flush bits. Throws
+  // mpeg4face::Error naming `element` if the segment runs past the data or breaks the
+  // stuffing rule.
+  void finish(std::string_view element);
+
+ private:
+  // Where the code value lies in [0, total), counted from the bottom as AdaptiveModel::find
+  // expects it.
+  uint32_t target(uint32_t total) const;
+  void narrow(uint32_t lower, uint32_t upper, uint32_t total);
+  bool get();                   // one coder bit, stuffing removed
+  bool afterZeroRun(bool bit);  // get() after 22 zeros: a stuffed 1, or a violation
+
+  BitReader& in_;
+  uint64_t start_;
+  uint32_t low_ = 0;
+  uint32_t high_ = 65535;
+  uint32_t value_ = 0;
+  int zeroRun_ = 0;
+  uint64_t bitsRead_ = 0;  // coder bits, stuffing not counted
+  // How many coder bits had been read when each stuffed 1 was skipped (rare), to find where
+  // the segment ends in the data.
+  std::vector<uint64_t> stuffedAfter_;
+  uint64_t badStuffing_ = UINT64_MAX;  // first stuffing violation, if any
+};
+
+}  // namespace mpeg4face
