@@ -45,13 +45,18 @@ std::int64_t roundedDivide(std::int64_t a, std::int64_t d) {
 const std::array<std::array<std::int64_t, kN>, kN>& dctBasis() { return kBasis; }
 
 std::array<double, kN> forwardDct16(const std::array<double, kN>& x) {
+  static const auto basis = [] {
+    std::array<std::array<double, kN>, kN> b{};
+    for (int k = 0; k < kN; ++k) {
+      const double c = k == 0 ? std::sqrt(1.0 / kN) : std::sqrt(2.0 / kN);
+      for (int n = 0; n < kN; ++n)
+        b[k][n] = c * std::cos(std::numbers::pi * (2 * n + 1) * k / (2 * kN));
+    }
+    return b;
+  }();
   std::array<double, kN> out{};
   for (int k = 0; k < kN; ++k) {
-    const double c = k == 0 ? std::sqrt(1.0 / kN) : std::sqrt(2.0 / kN);
-    double sum = 0;
-    for (int n = 0; n < kN; ++n)
-      sum += x[n] * std::cos(std::numbers::pi * (2 * n + 1) * k / (2 * kN));
-    out[k] = c * sum;
+    for (int n = 0; n < kN; ++n) out[k] += basis[k][n] * x[n];
   }
   return out;
 }
