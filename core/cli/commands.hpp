@@ -22,5 +22,8 @@ struct Command {
 };
 
 int runInfo(const std::vector<std::string>& args);
+int runPsnr(const std::vector<std::string>& args);
+int runEncode(const std::vector<std::string>& args);
+int runDecode(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli

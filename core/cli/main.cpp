@@ -20,6 +20,24 @@ constexpr std::array kCommands{
             "                        fp,x,y,z, or named columns)\n"
             "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
             mpeg4face::cli::runInfo},
+    Command{"psnr", "compare a decoded .fap stream with its original: PSNR, per-FAP errors",
+            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--json]\n"
+            "  PSNR as Tao et al. (1999) eq. (8) defines it (docs/fap-format.md), and each\n"
+            "  FAP's range, largest and RMS error; both streams need the same frames\n"
+            "  --json  print one JSON object (keys psnr_db, psnr_faps, faps, extra_faps)\n",
+            mpeg4face::cli::runPsnr},
+    Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
+            "mpeg4face encode IN.fap -o OUT.fba [--mode predictive] [--fap-quant Q]\n"
+            "                 [--intra-period N] [--json]\n"
+            "  --mode M          predictive (quantised differences, arithmetic coded)\n"
+            "  --fap-quant Q     0..31 (default 1): each FAP's step is its QP times Q; 0 is\n"
+            "                    lossless for |value| <= 1860\n"
+            "  --intra-period N  an intra frame at least every N frames (default 0: only the\n"
+            "                    first frame and where the set of FAPs changes)\n"
+            "  --json  print one JSON object (keys bits, bits_per_second, psnr_db, ...)\n",
+            mpeg4face::cli::runEncode},
+    Command{"decode", "decode an MPEG-4 FBA bitstream to a .fap stream",
+            "mpeg4face decode IN.fba -o OUT.fap\n", mpeg4face::cli::runDecode},
 };
 
 void printHelp(std::FILE* out) {

@@ -20,20 +20,12 @@ constexpr int kMaxZeroRun = 22;
 
 }  // namespace
 
-AdaptiveModel::AdaptiveModel(int symbolCount) {
+AdaptiveModel::AdaptiveModel(int symbolCount) : symbolCount_(symbolCount) {
   if (symbolCount < 1 || symbolCount > kMaxSymbols) {
     throw Error("adaptive model size " + std::to_string(symbolCount) + " is not in 1.." +
                 std::to_string(kMaxSymbols));
   }
-  counts_.resize(static_cast<size_t>(symbolCount));
-  tree_.resize(counts_.size() + 1);
-  while (topBit_ * 2 <= counts_.size()) topBit_ *= 2;
-  reset();
-}
-
-void AdaptiveModel::reset() {
-  std::fill(counts_.begin(), counts_.end(), 1u);
-  rebuild();
+  while (topBit_ * 2 <= static_cast<size_t>(symbolCount)) topBit_ *= 2;
 }
 
 void AdaptiveModel::rebuild() {
@@ -49,12 +41,14 @@ void AdaptiveModel::rebuild() {
 }
 
 uint32_t AdaptiveModel::countBelow(int symbol) const {
+  if (fresh_) return static_cast<uint32_t>(symbol);
   uint32_t sum = 0;
   for (size_t i = static_cast<size_t>(symbol); i > 0; i &= i - 1) sum += tree_[i];
   return sum;
 }
 
 int AdaptiveModel::find(uint32_t target) const {
+  if (fresh_) return static_cast<int>(target);
   size_t pos = 0;
   for (size_t step = topBit_; step > 0; step >>= 1) {
     if (pos + step < tree_.size() && tree_[pos + step] <= target) {
@@ -66,7 +60,12 @@ int AdaptiveModel::find(uint32_t target) const {
 }
 
 void AdaptiveModel::update(int symbol) {
-  if (total_ == kMaxTotal) {
+  if (fresh_) {
+    counts_.assign(static_cast<size_t>(symbolCount_), 1u);
+    tree_.resize(counts_.size() + 1);
+    rebuild();
+    fresh_ = false;
+  } else if (total_ == kMaxTotal) {
     for (uint32_t& c : counts_) c = (c + 1) / 2;
     rebuild();
   }
@@ -78,15 +77,24 @@ void AdaptiveModel::update(int symbol) {
 }
 
 double AdaptiveModel::idealBits(int symbol) const {
-  return -std::log2(static_cast<double>(count(symbol)) / static_cast<double>(total_));
+  return -std::log2(static_cast<double>(count(symbol)) / static_cast<double>(total()));
 }
 
 void ArithmeticEncoder::encode(int symbol, AdaptiveModel& model) {
-  const uint32_t total = model.total();
   // The reference's cumulative table counts from the top: symbol s spans
   // [cumul(s + 1), cumul(s)) with cumul(s) = total - countBelow(s).
+  const uint32_t total = model.total();
   const uint32_t upper = total - model.countBelow(symbol);
-  const uint32_t lower = upper - model.count(symbol);
+  narrow(upper - model.count(symbol), upper, total);
+  model.update(symbol);
+}
+
+void ArithmeticEncoder::encodeUniform(int symbol, int symbolCount) {
+  const auto upper = static_cast<uint32_t>(symbolCount - symbol);
+  narrow(upper - 1, upper, static_cast<uint32_t>(symbolCount));
+}
+
+void ArithmeticEncoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
   const uint32_t length = high_ - low_ + 1;
   high_ = low_ - 1 + length * upper / total;
   low_ += length * lower / total;
@@ -107,7 +115,6 @@ void ArithmeticEncoder::encode(int symbol, AdaptiveModel& model) {
     low_ *= 2;
     high_ = 2 * high_ + 1;
   }
-  model.update(symbol);
 }
 
 void ArithmeticEncoder::flush() {
@@ -153,14 +160,31 @@ bool ArithmeticDecoder::get() {
   return bit;
 }
 
+uint32_t ArithmeticDecoder::target(uint32_t total) const {
+  // value_ stays within [low_, high_] whatever the input bits, so cum < total.
+  const uint32_t length = high_ - low_ + 1;
+  const uint32_t cum = ((value_ - low_ + 1) * total - 1) / length;
+  return total - 1 - cum;
+}
+
 int ArithmeticDecoder::decode(AdaptiveModel& model) {
   const uint32_t total = model.total();
-  const uint32_t length = high_ - low_ + 1;
-  // value_ stays within [low_, high_] whatever the input bits, so cum < total.
-  const uint32_t cum = ((value_ - low_ + 1) * total - 1) / length;
-  const int symbol = model.find(total - 1 - cum);
+  const int symbol = model.find(target(total));
   const uint32_t upper = total - model.countBelow(symbol);
-  const uint32_t lower = upper - model.count(symbol);
+  narrow(upper - model.count(symbol), upper, total);
+  model.update(symbol);
+  return symbol;
+}
+
+int ArithmeticDecoder::decodeUniform(int symbolCount) {
+  const auto total = static_cast<uint32_t>(symbolCount);
+  const uint32_t symbol = target(total);
+  narrow(total - symbol - 1, total - symbol, total);
+  return static_cast<int>(symbol);
+}
+
+void ArithmeticDecoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
+  const uint32_t length = high_ - low_ + 1;
   high_ = low_ - 1 + length * upper / total;
   low_ += length * lower / total;
   for (;;) {
@@ -181,8 +205,6 @@ int ArithmeticDecoder::decode(AdaptiveModel& model) {
     high_ = 2 * high_ + 1;
     value_ = 2 * value_ + (get() ? 1 : 0);
   }
-  model.update(symbol);
-  return symbol;
 }
 
 void ArithmeticDecoder::finish(std::string_view element) {

@@ -131,15 +131,15 @@ void FaceModel::validate() const {
     for (const MorphTarget& target : mesh.morphTargets) {
       if (target.displacements.rows() != mesh.coord.rows()) {
         throw Error({}, 0, where + " morph target '" + target.name + "'",
-                    "has " + std::to_string(target.displacements.rows()) +
-                        " displacements for " + std::to_string(mesh.vertexCount()) +
-                        " vertices");
+                    "has " + std::to_string(target.displacements.rows()) + " displacements for " +
+                        std::to_string(mesh.vertexCount()) + " vertices");
       }
     }
     if (!mesh.weights.empty() && mesh.weights.size() != mesh.morphTargets.size()) {
       throw Error({}, 0, where + " weights", "expected one weight per morph target");
     }
-    if (!mesh.sourceIndex.empty() && static_cast<Eigen::Index>(mesh.sourceIndex.size()) != mesh.coord.rows()) {
+    if (!mesh.sourceIndex.empty() &&
+        static_cast<Eigen::Index>(mesh.sourceIndex.size()) != mesh.coord.rows()) {
       throw Error({}, 0, where + " sourceIndex", "expected one entry per vertex");
     }
   }
@@ -182,7 +182,8 @@ void FaceModel::validate() const {
   }
   for (const auto& [id, fp] : featurePoints) {
     if (fp.mesh >= meshCount) {
-      throw Error({}, 0, "feature point " + id, "mesh " + std::to_string(fp.mesh) + " out of range");
+      throw Error({}, 0, "feature point " + id,
+                  "mesh " + std::to_string(fp.mesh) + " out of range");
     }
     if (fp.mesh >= 0 && (fp.vertex < 0 || fp.vertex >= meshes[fp.mesh].vertexCount())) {
       throw Error({}, 0, "feature point " + id,

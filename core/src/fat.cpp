@@ -19,8 +19,8 @@ void applyFaceDefTransform(const FaceDefTransform& def, double scaledValue, Tran
     case FaceDefTransform::Field::Rotation: {
       const Eigen::Vector3d axis = def.rotationDef.head<3>();
       if (axis.norm() == 0) throw Error({}, 0, "rotationDef", "rotation axis is zero");
-      transform.rotation =
-          transform.rotation * Eigen::AngleAxisd(scaledValue * def.rotationDef[3], axis.normalized());
+      transform.rotation = transform.rotation *
+                           Eigen::AngleAxisd(scaledValue * def.rotationDef[3], axis.normalized());
       break;
     }
     case FaceDefTransform::Field::Scale:
@@ -33,9 +33,7 @@ void applyFaceDefTransform(const FaceDefTransform& def, double scaledValue, Tran
 }
 
 void checkIntervalBorders(std::span<const int> intervalBorders) {
-  const auto fail = [](const std::string& why) {
-    throw Error({}, 0, "intervalBorders", why);
-  };
+  const auto fail = [](const std::string& why) { throw Error({}, 0, "intervalBorders", why); };
   if (intervalBorders.size() < 2)
     fail("needs at least two borders (one interval), has " +
          std::to_string(intervalBorders.size()));

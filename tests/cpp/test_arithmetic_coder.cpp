@@ -279,6 +279,43 @@ TEST(ArithmeticCoder, SegmentsAndPlainFieldsRoundTrip) {
   EXPECT_EQ(r.position(), w.bitCount());
 }
 
+TEST(ArithmeticCoder, UniformCodingIsAFreshModel) {
+  std::mt19937 rng(4);
+  std::vector<std::pair<int, int>> symbols;  // (symbol, n)
+  BitWriter uniform, fresh;
+  ArithmeticEncoder a(uniform), b(fresh);
+  for (int i = 0; i < 5000; ++i) {
+    const int n = 1 + static_cast<int>(rng() % 3721);
+    const int s = static_cast<int>(rng() % static_cast<unsigned>(n));
+    symbols.emplace_back(s, n);
+    a.encodeUniform(s, n);
+    AdaptiveModel model(n);
+    b.encode(s, model);
+  }
+  a.flush();
+  b.flush();
+  EXPECT_EQ(uniform.bytes(), fresh.bytes());
+  BitReader r(uniform.bytes());
+  ArithmeticDecoder dec(r);
+  for (const auto& [s, n] : symbols) ASSERT_EQ(dec.decodeUniform(n), s);
+  dec.finish("segment");
+  EXPECT_EQ(r.position(), uniform.bitCount());
+}
+
+TEST(AdaptiveModel, ResetRestoresCountsOfOne) {
+  AdaptiveModel model(10);
+  for (int i = 0; i < 100; ++i) model.update(3);
+  EXPECT_EQ(model.count(3), 101u);
+  model.reset();
+  EXPECT_EQ(model.total(), 10u);
+  EXPECT_EQ(model.count(3), 1u);
+  EXPECT_EQ(model.countBelow(7), 7u);
+  model.update(9);
+  EXPECT_EQ(model.total(), 11u);
+  EXPECT_EQ(model.countBelow(9), 9u);
+  EXPECT_EQ(model.count(3), 1u);
+}
+
 TEST(ArithmeticCoder, StuffsAOneAfter22Zeros) {
   // The last symbol sits at the bottom of the interval, so coding it again and again writes
   // long runs of 0 bits.

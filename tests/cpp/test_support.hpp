@@ -3,9 +3,14 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "mpeg4face/error.hpp"
@@ -36,6 +41,29 @@ inline std::filesystem::path scratchDir() {
                     std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+// The `mpeg4face` tool run as a user runs it: `args` go through the shell.
+struct CliResult {
+  int status;
+  std::string out;         // stdout and stderr together
+  std::string stdoutOnly;  // for --json
+};
+inline CliResult runCli(const std::string& args) {
+  CliResult r{};
+  const std::filesystem::path err = scratchDir() / "cli_stderr.txt";
+  const std::string command = std::string(MPEG4FACE_CLI) + " " + args + " 2>" + err.string();
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed", ""};
+  std::array<char, 4096> buffer{};
+  for (size_t n; (n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0;) {
+    r.stdoutOnly.append(buffer.data(), n);
+  }
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::ifstream in(err);
+  r.out = r.stdoutOnly + std::string(std::istreambuf_iterator<char>(in), {});
+  return r;
 }
 
 }  // namespace mpeg4face::test

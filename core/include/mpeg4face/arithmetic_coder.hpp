@@ -18,7 +18,8 @@ namespace mpeg4face {
 // symbol's count grows by 1, and when the total has reached 16383 all counts are first halved
 // (rounding up). The coder maps symbol 0 to the top of the interval, symbol n-1 to the bottom
 // (the reference's descending cumulative table). Counts are kept in a Fenwick tree so a symbol
-// costs O(log n) even for the large default FAP ranges.
+// costs O(log n) even for the large default FAP ranges, and only from the first update on: a
+// fresh or reset model costs O(1).
 class AdaptiveModel {
  public:
   static constexpr uint32_t kMaxTotal = 16383;
@@ -28,11 +29,11 @@ class AdaptiveModel {
   // Throws mpeg4face::Error if symbolCount is not in 1..kMaxSymbols.
   explicit AdaptiveModel(int symbolCount = 1);
 
-  int symbolCount() const { return static_cast<int>(counts_.size()); }
+  int symbolCount() const { return symbolCount_; }
   // Back to all counts 1.
-  void reset();
-  uint32_t total() const { return total_; }
-  uint32_t count(int symbol) const { return counts_[static_cast<size_t>(symbol)]; }
+  void reset() { fresh_ = true; }
+  uint32_t total() const { return fresh_ ? static_cast<uint32_t>(symbolCount_) : total_; }
+  uint32_t count(int symbol) const { return fresh_ ? 1 : counts_[static_cast<size_t>(symbol)]; }
   // Sum of the counts of the symbols below `symbol`.
   uint32_t countBelow(int symbol) const;
   // The symbol s with countBelow(s) <= target < countBelow(s) + count(s); target < total().
@@ -45,6 +46,8 @@ class AdaptiveModel {
  private:
   void rebuild();
 
+  int symbolCount_;
+  bool fresh_ = true;  // all counts 1; counts_ and tree_ not filled in yet
   std::vector<uint32_t> counts_;
   std::vector<uint32_t> tree_;  // Fenwick tree over counts_, 1-based
   uint32_t total_ = 0;
@@ -57,11 +60,16 @@ class ArithmeticEncoder {
   explicit ArithmeticEncoder(BitWriter& out) : out_(out) {}
   // Codes `symbol` (0..model.symbolCount()-1) and then adapts the model to it.
   void encode(int symbol, AdaptiveModel& model);
+  // Codes `symbol` as a fresh AdaptiveModel(symbolCount) would (all counts 1), for a symbol
+  // that is the only one its model codes before a reset (the FAPs of an intra plane).
+  void encodeUniform(int symbol, int symbolCount);
   // Ends the segment with the 2 (+ pending) bits that pin the code value down, so the decoder
   // needs nothing after them; the next encode() starts a new segment.
   void flush();
 
  private:
+  // Narrows the interval to [lower, upper) of total and writes the settled bits.
+  void narrow(uint32_t lower, uint32_t upper, uint32_t total);
   void emit(bool bit);  // one coder bit with its pending opposite bits
   void put(bool bit);   // one bit with the stuffing rule
 
@@ -78,12 +86,18 @@ class ArithmeticDecoder {
   explicit ArithmeticDecoder(BitReader& in);
   // Decodes a symbol and adapts the model to it, as the encoder did.
   int decode(AdaptiveModel& model);
+  // The counterpart of ArithmeticEncoder::encodeUniform.
+  int decodeUniform(int symbolCount);
   // Ends the segment: moves the reader to just after the encoder's flush bits. Throws
   // mpeg4face::Error naming `element` if the segment runs past the data or breaks the
   // stuffing rule.
   void finish(std::string_view element);
 
  private:
+  // Where the code value lies in [0, total), counted from the bottom as AdaptiveModel::find
+  // expects it.
+  uint32_t target(uint32_t total) const;
+  void narrow(uint32_t lower, uint32_t upper, uint32_t total);
   bool get();  // one coder bit, stuffing removed
 
   BitReader& in_;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // A FAP stream: frames of Face Animation Parameters as the .fap file and the FBA bitstream
-// carry them. A frame holds only what was sent; resolving a stream (fap_stream.cpp) turns it
-// into the full state a decoder animates with.
+// carry them. A frame holds only what was sent; resolving a stream (applyFrame,
+// resolveFapStream) turns it into the full state a decoder animates with.
 #pragma once
 
 #include <array>
@@ -53,10 +53,56 @@ struct FapFrame {
 };
 
 struct FapStream {
-  std::string name;        // the .fap header's name field
+  std::string name;         // the .fap header's name field
   double frameRate = 25.0;  // frames per second
   std::vector<FapFrame> frames;
+  // The .fap header's version, "2.0", "2.1" or "2.2" (fap_file.hpp), kept so that a file is
+  // written back as it was read; values in `frames` are always in FAPU whatever the version.
+  std::string version = "2.1";
+  bool headerLine = true;  // false: the .fap file had no header line and is written without
   bool operator==(const FapStream&) const = default;
 };
+
+// Time of a frame in seconds: its number / frameRate (frame 0 is at time 0).
+double frameTime(const FapStream& stream, const FapFrame& frame);
+// Seconds the stream spans: (last number - first number + 1) / frameRate, so that skipped
+// frame numbers count; 0 for a stream without frames.
+double streamDuration(const FapStream& stream);
+
+// The left/right partner of a FAP: the FAP whose standard name (spec.hpp) differs only in an
+// `l`/`r` or `lm`/`rm` part, e.g. 19 close_t_l_eyelid <-> 20 close_t_r_eyelid, 8
+// lower_t_lip_lm <-> 9 lower_t_lip_rm; 0 if it has none. There are 23 pairs.
+int fapMirror(int fap);
+
+// What a decoder animates with after a frame: every FAP's current value. A frame carries only
+// the FAPs it sends; the rules that complete it (docs/fap-format.md, "Resolution"):
+// - a FAP keeps its last value until it is sent again (Tekalp-Ostermann 2.2.1);
+// - a FAP of a left/right pair that has never been sent takes its partner's current value,
+//   so a stream that only sends one side moves the face symmetrically (the decoder
+//   extrapolation of 2.2.1 and Tao et al.'s left/right FIT, f_i = F_i). Equal values are
+//   symmetric motion because the standard defines each pair's directions mirror-wise
+//   (stretch_l: left, stretch_r: right); for eyeball yaw (both: left) they keep the gaze
+//   parallel. Once the FAP itself is sent, its own value holds from then on;
+// - FAPs never sent (and without a sent partner) are inactive: the neutral face.
+struct FapState {
+  int number = 0;                       // frame number of the frame last applied
+  std::bitset<kFapCount> active;        // FAP i + 1 has a value: sent so far, or mirrored
+  std::bitset<kFapCount> mirrored;      // active only through its partner (never sent itself)
+  std::array<int, kFapCount> values{};  // FAPU; 0 for inactive FAPs; entries 0, 1 unused
+  Viseme viseme;                        // valid if active[0]
+  Expression expression;                // valid if active[1]
+
+  bool has(int fap) const { return active[static_cast<size_t>(fap - 1)]; }
+  // Sent in this or an earlier frame (active and not mirrored).
+  bool sent(int fap) const { return has(fap) && !mirrored[static_cast<size_t>(fap - 1)]; }
+  int value(int fap) const { return values[static_cast<size_t>(fap - 1)]; }
+  bool operator==(const FapState&) const = default;
+};
+
+// Applies one frame to `state` (start from FapState{} before the first frame): the resolved
+// state after it. Decoders call it frame by frame.
+void applyFrame(FapState& state, const FapFrame& frame);
+// The resolved state after each frame of the stream (one per frame).
+std::vector<FapState> resolveFapStream(const FapStream& stream);
 
 }  // namespace mpeg4face

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mpeg4face decode`: an FBA bitstream back to a .fap stream.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "commands.hpp"
+#include "mpeg4face/fap_file.hpp"
+#include "mpeg4face/fba_codec.hpp"
+#include "mpeg4face/file_io.hpp"
+
+namespace mpeg4face::cli {
+
+int runDecode(const std::vector<std::string>& args) {
+  std::string input, output;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "-o") {
+      if (i + 1 >= args.size()) throw UsageError("-o needs an output file");
+      output = args[++i];
+    } else if (args[i].starts_with("-")) {
+      throw UsageError("unknown option '" + args[i] + "'");
+    } else if (input.empty()) {
+      input = args[i];
+    } else {
+      throw UsageError("more than one input given ('" + input + "' and '" + args[i] + "')");
+    }
+  }
+  if (input.empty()) throw UsageError("no input .fba file given");
+  if (output.empty()) throw UsageError("no output given (-o OUT.fap)");
+
+  const std::string bytes = readFile(input);
+  FapStream stream =
+      decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, input);
+  stream.name = std::filesystem::path(input).stem().string();  // the bitstream has no name
+  writeFapFile(output, stream);
+  std::printf("%s: %zu frames at %g Hz -> %s\n", input.c_str(), stream.frames.size(),
+              stream.frameRate, output.c_str());
+  return 0;
+}
+
+}  // namespace mpeg4face::cli

@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mpeg4face encode`: a .fap stream to an FBA bitstream, with what it costs and how close the
+// decoder will get.
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "commands.hpp"
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/fap_file.hpp"
+#include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/fba_codec.hpp"
+#include "mpeg4face/file_io.hpp"
+
+namespace mpeg4face::cli {
+namespace {
+
+struct EncodeArgs {
+  std::string input;
+  std::string output;
+  FbaEncodeOptions options;
+  bool json = false;
+};
+
+int intArgument(const std::vector<std::string>& args, size_t& i, int min, int max) {
+  const std::string& option = args[i];
+  if (i + 1 >= args.size()) throw UsageError(option + " needs a number");
+  const std::string& text = args[++i];
+  size_t used = 0;
+  int value = 0;
+  try {
+    value = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || value < min || value > max) {
+    throw UsageError(option + " takes a whole number in " + std::to_string(min) + ".." +
+                     std::to_string(max) + ", not '" + text + "'");
+  }
+  return value;
+}
+
+EncodeArgs parseArgs(const std::vector<std::string>& args) {
+  EncodeArgs out;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-o") {
+      if (i + 1 >= args.size()) throw UsageError("-o needs an output file");
+      out.output = args[++i];
+    } else if (a == "--mode") {
+      if (i + 1 >= args.size()) throw UsageError("--mode needs a mode");
+      const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
+      if (!mode) throw UsageError("unknown mode '" + args[i] + "' (modes: predictive)");
+      out.options.mode = *mode;
+    } else if (a == "--fap-quant") {
+      out.options.fapQuant = intArgument(args, i, 0, 31);
+    } else if (a == "--intra-period") {
+      out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
+    } else if (a == "--json") {
+      out.json = true;
+    } else if (a.starts_with("-")) {
+      throw UsageError("unknown option '" + a + "'");
+    } else if (out.input.empty()) {
+      out.input = a;
+    } else {
+      throw UsageError("more than one input given ('" + out.input + "' and '" + a + "')");
+    }
+  }
+  if (out.input.empty()) throw UsageError("no input .fap file given");
+  if (out.output.empty()) throw UsageError("no output given (-o OUT.fba)");
+  return out;
+}
+
+// The reconstruction on the input's frames and rate, for compareFapStreams: without the empty
+// frame 0 the bitstream needs when the input starts later, and with the input's exact rate
+// (the bitstream codes it in 1/16 Hz, times 1000/1001).
+FapStream comparable(const FapStream& input, FapStream reconstruction) {
+  if (reconstruction.frames.size() == input.frames.size() + 1) {
+    reconstruction.frames.erase(reconstruction.frames.begin());
+  }
+  reconstruction.frameRate = input.frameRate;
+  return reconstruction;
+}
+
+std::string decibels(const std::optional<double>& db) {
+  if (!db) return "undefined (no FAP varies)";
+  if (std::isinf(*db)) return "inf dB";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2f dB", *db);
+  return buffer;
+}
+
+}  // namespace
+
+int runEncode(const std::vector<std::string>& rawArgs) {
+  const EncodeArgs args = parseArgs(rawArgs);
+  const FapStream input = readFapFile(args.input);
+  FbaEncoding enc;
+  try {
+    enc = encodeFba(input, args.options);
+  } catch (const Error& e) {
+    throw Error(args.input, 0, e.field(), e.reason());
+  }
+  writeFileAtomically(args.output, std::string(enc.bytes.begin(), enc.bytes.end()));
+
+  const FapComparison quality = compareFapStreams(input, comparable(input, enc.reconstruction));
+  bool lossless = quality.visemeMismatches == 0 && quality.expressionMismatches == 0;
+  for (const FapError& e : quality.faps) lossless &= e.maxAbs == 0;
+  const auto bits = static_cast<double>(enc.stats.bits);
+  const double rate = input.frames.empty() ? 0.0 : bitsPerSecond(bits, input);
+
+  if (args.json) {
+    nlohmann::ordered_json j;
+    j["input"] = args.input;
+    j["output"] = args.output;
+    j["mode"] = codingModeName(args.options.mode);
+    j["fap_quant"] = args.options.fapQuant;
+    j["intra_period"] = args.options.intraPeriod;
+    j["frames"] = input.frames.size();
+    j["frame_rate"] = input.frameRate;
+    j["bits"] = enc.stats.bits;
+    j["bits_per_second"] = rate;
+    j["intra_frames"] = enc.stats.intraFrames;
+    j["clipped_values"] = enc.stats.clippedValues;
+    j["lossless"] = lossless;
+    if (!quality.psnr) {
+      j["psnr_db"] = nullptr;
+    } else if (std::isinf(*quality.psnr)) {
+      j["psnr_db"] = "inf";
+    } else {
+      j["psnr_db"] = *quality.psnr;
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %zu frames at %g Hz\n", args.input.c_str(), input.frames.size(),
+              input.frameRate);
+  std::printf("%s: %s, fap_quant %d, intra frames: %d\n", args.output.c_str(),
+              std::string(codingModeName(args.options.mode)).c_str(), args.options.fapQuant,
+              enc.stats.intraFrames);
+  std::printf("bits %llu (%zu bytes), %.1f bits/s\n",
+              static_cast<unsigned long long>(enc.stats.bits), enc.bytes.size(), rate);
+  std::printf("PSNR %s over %d FAPs (Tao et al. 1999, eq. 8)%s\n", decibels(quality.psnr).c_str(),
+              quality.psnrFaps, lossless ? "; lossless" : "");
+  if (enc.stats.clippedValues > 0) {
+    std::fprintf(stderr,
+                 "warning: %d values lay outside the codable range and were sent clipped "
+                 "(the prediction catches up on later frames)%s\n",
+                 enc.stats.clippedValues,
+                 args.options.fapQuant == 0 ? "; fap_quant 0 codes |value| <= 1860 only" : "");
+  }
+  return 0;
+}
+
+}  // namespace mpeg4face::cli

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mpeg4face psnr`: how far a decoded FAP stream is from its original (Tao et al. eq. 8).
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "commands.hpp"
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/fap_file.hpp"
+#include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/spec.hpp"
+
+namespace mpeg4face::cli {
+namespace {
+
+struct PsnrArgs {
+  std::string original;
+  std::string decoded;
+  bool json = false;
+};
+
+PsnrArgs parseArgs(const std::vector<std::string>& args) {
+  PsnrArgs out;
+  for (const std::string& a : args) {
+    if (a == "--json") {
+      out.json = true;
+    } else if (a.starts_with("-")) {
+      throw UsageError("unknown option '" + a + "'");
+    } else if (out.original.empty()) {
+      out.original = a;
+    } else if (out.decoded.empty()) {
+      out.decoded = a;
+    } else {
+      throw UsageError("more than two files given ('" + a + "')");
+    }
+  }
+  if (out.decoded.empty()) throw UsageError("needs two .fap files, ORIGINAL and DECODED");
+  return out;
+}
+
+// dB as text: "inf" for an exact match, "-" where undefined.
+std::string decibels(const std::optional<double>& db) {
+  if (!db) return "-";
+  if (std::isinf(*db)) return "inf";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2f", *db);
+  return buffer;
+}
+
+nlohmann::ordered_json decibelsJson(const std::optional<double>& db) {
+  if (!db) return nullptr;
+  if (std::isinf(*db)) return "inf";
+  return *db;
+}
+
+}  // namespace
+
+int runPsnr(const std::vector<std::string>& rawArgs) {
+  const PsnrArgs args = parseArgs(rawArgs);
+  const FapStream original = readFapFile(args.original);
+  const FapStream decoded = readFapFile(args.decoded);
+  FapComparison c;
+  try {
+    c = compareFapStreams(original, decoded);
+  } catch (const Error& e) {
+    throw Error(args.decoded, 0, e.field(), e.reason() + " (original: " + args.original + ")");
+  }
+
+  if (args.json) {
+    nlohmann::ordered_json j;
+    j["original"] = args.original;
+    j["decoded"] = args.decoded;
+    j["frames"] = c.frames;
+    j["frame_rate"] = original.frameRate;
+    j["psnr_db"] = decibelsJson(c.psnr);
+    j["psnr_faps"] = c.psnrFaps;
+    j["faps"] = nlohmann::json::array();
+    for (const FapError& e : c.faps) {
+      nlohmann::ordered_json f;
+      f["fap"] = e.fap;
+      f["name"] = fapInfo(e.fap).name;
+      f["frames"] = e.frames;
+      f["missing"] = e.missing;
+      f["range"] = e.range;
+      f["max_abs_error"] = e.maxAbs;
+      f["rms_error"] = e.rms;
+      f["psnr_db"] = decibelsJson(e.psnr);
+      j["faps"].push_back(std::move(f));
+    }
+    j["extra_faps"] = c.extraFaps;
+    j["viseme_mismatches"] = c.visemeMismatches;
+    j["expression_mismatches"] = c.expressionMismatches;
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+
+  std::printf("original %s: %d frames at %g Hz, %zu low-level FAPs\n", args.original.c_str(),
+              c.frames, original.frameRate, c.faps.size());
+  std::printf("decoded  %s\n", args.decoded.c_str());
+  if (c.psnr) {
+    std::printf("PSNR %s dB over %d FAPs (Tao et al. 1999, eq. 8; FAPs with range 0 excluded)\n",
+                decibels(c.psnr).c_str(), c.psnrFaps);
+  } else {
+    std::printf(
+        "PSNR undefined: no FAP the original sends varies (Tao et al. eq. 8 needs a "
+        "range > 0)\n");
+  }
+  std::printf("\n FAP name                    frames  range  max|err|   rms err  PSNR dB\n");
+  for (const FapError& e : c.faps) {
+    std::printf(
+        "%4d %-24s %6d %6lld %9lld %9.3f  %7s%s\n", e.fap, std::string(fapInfo(e.fap).name).c_str(),
+        e.frames, e.range, e.maxAbs, e.rms, decibels(e.psnr).c_str(),
+        e.missing > 0 ? ("  (missing in decoded: " + std::to_string(e.missing) + " frames)").c_str()
+                      : "");
+  }
+  if (!c.extraFaps.empty()) {
+    std::printf("\nonly in the decoded stream:");
+    for (int fap : c.extraFaps) std::printf(" %d %s", fap, std::string(fapInfo(fap).name).c_str());
+    std::printf("\n");
+  }
+  std::printf("\nviseme (FAP 1): %d frames differ; expression (FAP 2): %d frames differ\n",
+              c.visemeMismatches, c.expressionMismatches);
+  return 0;
+}
+
+}  // namespace mpeg4face::cli

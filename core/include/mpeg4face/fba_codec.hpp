@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The FBA bitstream of ISO/IEC 14496-2 for face animation: a FapStream in, bytes out, and back.
+// The syntax as implemented, element by element, is in docs/bitstream.md.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "mpeg4face/fap_stream.hpp"
+
+namespace mpeg4face {
+
+// How the encoder codes FAPs. Predictive is the standard's coding_type 0 (quantised values and
+// frame-to-frame differences, adaptive arithmetic coding).
+enum class FapCodingMode { Predictive };
+std::string_view codingModeName(FapCodingMode mode);  // "predictive"
+std::optional<FapCodingMode> parseCodingMode(std::string_view name);
+
+struct FbaEncodeOptions {
+  FapCodingMode mode = FapCodingMode::Predictive;
+  // 0..31; the quantiser step of FAP n is FapInfo::quantStep * fapQuant. 0 = no quantisation
+  // (lossless within the codable range, |value| <= 1860).
+  int fapQuant = 1;
+  // An intra frame at least every intraPeriod frames sent (a decoder can join there); 0 =
+  // intra frames only where needed: the first frame and wherever the FAP mask changes.
+  int intraPeriod = 0;
+};
+
+struct FbaEncodeStats {
+  uint64_t bits = 0;                // the whole stream, start and end codes included
+  std::vector<uint64_t> frameBits;  // per frame sent (reconstruction.frames), headers included
+  int intraFrames = 0;
+  // Values whose quantised value or difference lies outside what the syntax can code (range
+  // codes are 5 bits: at most 1860 steps of QP * fapQuant) are sent clipped; the prediction
+  // loop catches up on the following frames.
+  int clippedValues = 0;
+};
+
+struct FbaEncoding {
+  std::vector<uint8_t> bytes;
+  FbaEncodeStats stats;
+  // Exactly what decodeFba(bytes) returns: the quantised values, FAP 1/2 fields clamped to
+  // their ranges, and no name (the bitstream has none). A stream whose first frame number is
+  // not 0 gets an empty frame 0 in front, since frame numbers count from the first plane.
+  FapStream reconstruction;
+};
+
+// Throws mpeg4face::Error for a stream the syntax cannot carry (frame numbers not increasing,
+// negative, FAP 1/2 fields outside their ranges, |value| > kMaxFbaValue, frame rate not in
+// (0, 255.9375]) or bad options.
+FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options = {});
+
+// Largest |FAP value| the codec accepts or reconstructs.
+inline constexpr int kMaxFbaValue = 1 << 24;
+
+// Bounds a decoder enforces so that a hostile stream cannot make it allocate without limit.
+struct FbaDecodeLimits {
+  size_t maxFrames = size_t{1} << 20;  // about 11.6 hours at 25 frames per second
+  int maxFrameNumber = 1 << 30;        // skipped frames count too
+};
+
+// Throws mpeg4face::Error naming `source` (a file name, may be empty), the syntax element and
+// the bit offset for any stream that does not follow the syntax, is truncated, or exceeds the
+// limits.
+FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source = {},
+                    const FbaDecodeLimits& limits = {});
+
+}  // namespace mpeg4face

@@ -1,0 +1,459 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "fba_predictive.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <string>
+
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/spec.hpp"
+
+namespace mpeg4face::fba {
+namespace {
+
+// Range codes are 5 bits in units of 60 quantiser steps at fap_quant 1 (the reference's
+// RANGE_DELTA); a range in levels is code * 60 / fap_quant.
+constexpr int kRangeUnit = 60;
+constexpr uint32_t kMaxRangeCode = 31;
+// A decoder refuses reconstructions beyond this (the encoder's stay within kMaxFbaValue plus
+// half a step).
+constexpr int64_t kMaxReconstruction = int64_t{2} * kMaxFbaValue;
+
+struct FieldInfo {
+  const char* name;
+  int maxValue;
+  bool quantised;  // by fap_quant (QP of FAP 1 and 2 is 1); selects are sent as they are
+};
+constexpr std::array<FieldInfo, kVisemeExpressionFields> kFields{{
+    {"viseme_select1", 14, false},
+    {"viseme_select2", 14, false},
+    {"viseme_blend", 63, true},
+    {"expression_select1", 6, false},
+    {"expression_intensity1", 63, true},
+    {"expression_select2", 6, false},
+    {"expression_intensity2", 63, true},
+}};
+constexpr int kFirstExpressionField = 3;
+
+// The four range flags, in syntax order.
+enum RangeFlag { kIntraMax, kIntraMin, kInterMax, kInterMin };
+constexpr std::array<const char*, 4> kFlagNames{"is_i_new_max", "is_i_new_min", "is_p_new_max",
+                                                "is_p_new_min"};
+constexpr std::array<const char*, 4> kCodeNames{"i_new_max", "i_new_min", "p_new_max", "p_new_min"};
+
+int levelsOf(uint32_t code, int fapQuant) {
+  return static_cast<int>(code) * kRangeUnit / (fapQuant != 0 ? fapQuant : 1);
+}
+
+// The reference rounds a default range up to whole range units.
+uint32_t defaultCode(int range) {
+  return static_cast<uint32_t>((range + kRangeUnit - 1) / kRangeUnit);
+}
+
+// The smallest code whose range holds `need` levels (31 if none: the values get clipped).
+uint32_t fitCode(int64_t need, int fapQuant) {
+  for (uint32_t code = 0; code < kMaxRangeCode; ++code) {
+    if (levelsOf(code, fapQuant) >= need) return code;
+  }
+  return kMaxRangeCode;
+}
+
+void applyRangeCode(PredictiveState& state, int flag, size_t i, uint32_t code) {
+  const int levels = levelsOf(code, state.fapQuant);
+  switch (flag) {
+    case kIntraMax:
+      state.intraRange[i].max = levels;
+      break;
+    case kIntraMin:
+      state.intraRange[i].min = -levels;
+      break;
+    case kInterMax:
+      state.interRange[i].max = levels;
+      break;
+    default:
+      state.interRange[i].min = -levels;
+      break;
+  }
+}
+
+// The range-code slots of FAP 3..68: a marker bit before every 4th FAP counted from each group
+// start (for masked and unmasked FAPs alike), a 5-bit code for each masked FAP.
+template <typename F>
+void forEachRangeSlot(F&& slot) {
+  for (const FapGroupInfo& group : fapGroupTable()) {
+    if (group.number == 1) continue;
+    for (int fap = group.firstFap; fap <= group.lastFap; ++fap) {
+      slot(fap, (fap - group.firstFap) % 4 == 0);
+    }
+  }
+}
+
+int markerBitsPerFlag() {
+  int markers = 0;
+  forEachRangeSlot([&](int, bool marker) { markers += marker ? 1 : 0; });
+  return markers;
+}
+
+// Bits an adaptive model with counts starting at 1 spends on N symbols over n, beyond what
+// depends on the symbols' histogram: log2((N + n - 1)! / (n - 1)!) (halving ignored).
+double learningBits(int n, int64_t count) {
+  return (std::lgamma(static_cast<double>(count + n)) - std::lgamma(static_cast<double>(n))) /
+         std::numbers::ln2;
+}
+
+// Writes the state's reconstruction into `frame` (number and def bits are the caller's).
+void fillFrame(const PredictiveState& state, FapFrame& frame) {
+  frame.mask = state.mask;
+  for (int fap = 3; fap <= kFapCount; ++fap) {
+    const auto i = static_cast<size_t>(fap - 1);
+    if (state.mask[i]) frame.values[i] = static_cast<int>(state.previous[i]);
+  }
+  const auto& p = state.visemeExpressionPrevious;
+  const auto field = [&](int k) {
+    return static_cast<int>(std::clamp<int64_t>(p[static_cast<size_t>(k)], 0,
+                                                kFields[static_cast<size_t>(k)].maxValue));
+  };
+  if (state.mask[0]) {
+    frame.viseme.select1 = field(0);
+    frame.viseme.select2 = field(1);
+    frame.viseme.blend = field(2);
+  }
+  if (state.mask[1]) {
+    frame.expression.select1 = field(3);
+    frame.expression.intensity1 = field(4);
+    frame.expression.select2 = field(5);
+    frame.expression.intensity2 = field(6);
+  }
+}
+
+std::array<int, kVisemeExpressionFields> visemeExpressionValues(const FapFrame& frame) {
+  return {frame.viseme.select1,       frame.viseme.select2,        frame.viseme.blend,
+          frame.expression.select1,   frame.expression.intensity1, frame.expression.select2,
+          frame.expression.intensity2};
+}
+
+}  // namespace
+
+void PredictiveState::beginIntra(int quant, const std::bitset<kFapCount>& newMask) {
+  fapQuant = quant;
+  mask = newMask;
+  if (!rangesSet) {
+    for (int fap = 3; fap <= kFapCount; ++fap) {
+      const FapInfo& info = fapTable()[static_cast<size_t>(fap - 1)];
+      const int intra = levelsOf(defaultCode(info.intraRange), fapQuant);
+      const int inter = levelsOf(defaultCode(info.interRange), fapQuant);
+      intraRange[static_cast<size_t>(fap - 1)] = {-intra, intra};
+      interRange[static_cast<size_t>(fap - 1)] = {-inter, inter};
+    }
+    rangesSet = true;
+  }
+  // Blend and intensities (0..63) in levels of fap_quant, rounded as the quantiser rounds 63.
+  const int top = fapQuant != 0 ? (63 + fapQuant / 2) / fapQuant : 63;
+  for (size_t k = 0; k < kFields.size(); ++k) {
+    const int max = kFields[k].quantised ? top : kFields[k].maxValue;
+    visemeExpressionIntra[k] = {0, max};
+    visemeExpressionInter[k] = {-max, max};
+  }
+}
+
+void PredictiveState::resetModels() {
+  interModel.resize(kFapCount);
+  visemeExpressionInterModel.resize(kVisemeExpressionFields);
+  for (int fap = 3; fap <= kFapCount; ++fap) {
+    const auto i = static_cast<size_t>(fap - 1);
+    if (mask[i]) interModel[i] = AdaptiveModel(interRange[i].size());
+  }
+  for (size_t k = 0; k < kFields.size(); ++k) {
+    if (mask[k < kFirstExpressionField ? 0 : 1]) {
+      visemeExpressionInterModel[k] = AdaptiveModel(visemeExpressionInter[k].size());
+    }
+  }
+}
+
+int64_t PredictiveState::step(int fap) const {
+  return int64_t{fapTable()[static_cast<size_t>(fap - 1)].quantStep} * fapQuant;
+}
+
+// ---------------------------------------------------------------------------------- encoder
+
+namespace {
+
+class PredictiveEncoder {
+ public:
+  PredictiveEncoder(std::span<const FapFrame> frames, const FbaEncodeOptions& options,
+                    const FrameRateCode& rate, EncodeOutput& output)
+      : frames_(frames), options_(options), rate_(rate), output_(output), out_(output.out) {}
+
+  // One intra plane for frames_[begin] and inter planes for the rest of [begin, end).
+  void encodeGroup(size_t begin, size_t end) {
+    state_.beginIntra(options_.fapQuant, frames_[begin].mask);
+    const std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes =
+        chooseRanges(begin, end);
+
+    uint64_t start = out_.bitCount();
+    out_.writeStartCode(kFbaObjectPlaneStartCode);
+    writePlaneHeader(out_, {true, rate_, std::nullopt, framesToSkipAfter(frames_, begin)});
+    writeIntraSettings(out_, {options_.fapQuant, state_.mask, false, kCodingTypePredictive});
+    for (int flag = 0; flag < 4; ++flag) out_.writeBit(anyCode(codes[flag]));
+    for (int flag = 0; flag < 4; ++flag) {
+      if (!anyCode(codes[flag])) continue;
+      forEachRangeSlot([&](int fap, bool marker) {
+        const auto i = static_cast<size_t>(fap - 1);
+        if (marker) out_.writeBit(true);
+        if (!state_.mask[i]) return;
+        out_.writeBits(*codes[flag][i], 5);
+        applyRangeCode(state_, flag, i, *codes[flag][i]);
+      });
+    }
+    state_.resetModels();
+    encodeData(frames_[begin], true);
+    output_.stats.frameBits.push_back(out_.bitCount() - start);
+    ++output_.stats.intraFrames;
+
+    for (size_t k = begin + 1; k < end; ++k) {
+      start = out_.bitCount();
+      writePlaneHeader(out_, {false, std::nullopt, std::nullopt, framesToSkipAfter(frames_, k)});
+      encodeData(frames_[k], false);
+      output_.stats.frameBits.push_back(out_.bitCount() - start);
+    }
+  }
+
+ private:
+  static bool anyCode(const std::array<std::optional<uint32_t>, kFapCount>& codes) {
+    return std::any_of(codes.begin(), codes.end(), [](const auto& c) { return c.has_value(); });
+  }
+
+  // Which of the four ranges to send for this group of frames, and their codes: each pair
+  // (intra, inter) takes the cheapest of keeping or fitting max and min, counting the range
+  // codes against the bits an adaptive model of that size spends learning (fitted ranges
+  // follow the group's prediction loop).
+  std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> chooseRanges(size_t begin,
+                                                                             size_t end) {
+    std::array<int64_t, kFapCount> needMax[2]{}, needMin[2]{};  // [intra / inter][fap - 1]
+    // Levels beyond the largest range get clipped in the loop as they will be when coded.
+    const int cap = levelsOf(kMaxRangeCode, options_.fapQuant);
+    int masked = 0;
+    for (int fap = 3; fap <= kFapCount; ++fap) {
+      const auto i = static_cast<size_t>(fap - 1);
+      if (!state_.mask[i]) continue;
+      ++masked;
+      const int64_t step = state_.step(fap);
+      int64_t level = std::clamp<int64_t>(quantise(frames_[begin].values[i], step), -cap, cap);
+      int64_t reconstruction = dequantise(level, step);
+      needMax[0][i] = std::max<int64_t>(level, 0);
+      needMin[0][i] = std::min<int64_t>(level, 0);
+      for (size_t k = begin + 1; k < end; ++k) {
+        level =
+            std::clamp<int64_t>(quantise(frames_[k].values[i] - reconstruction, step), -cap, cap);
+        reconstruction += dequantise(level, step);
+        needMax[1][i] = std::max(needMax[1][i], level);
+        needMin[1][i] = std::min(needMin[1][i], level);
+      }
+    }
+    const double codeBits = markerBitsPerFlag() + 5.0 * masked;
+    const int64_t counts[2] = {1, static_cast<int64_t>(end - begin) - 1};
+
+    std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes{};
+    for (int inter = 0; inter < 2; ++inter) {
+      const auto& current = inter ? state_.interRange : state_.intraRange;
+      std::optional<double> best;
+      int bestCombo = 0;
+      for (int combo = 0; combo < 4; ++combo) {  // bit 0: send max, bit 1: send min
+        const bool sendMax = combo & 1, sendMin = combo & 2;
+        double bits = codeBits * ((sendMax ? 1 : 0) + (sendMin ? 1 : 0));
+        bool fits = true;
+        for (int fap = 3; fap <= kFapCount && fits; ++fap) {
+          const auto i = static_cast<size_t>(fap - 1);
+          if (!state_.mask[i]) continue;
+          const int max =
+              sendMax ? levelsOf(fitCode(needMax[inter][i], options_.fapQuant), options_.fapQuant)
+                      : current[i].max;
+          const int min =
+              sendMin ? -levelsOf(fitCode(-needMin[inter][i], options_.fapQuant), options_.fapQuant)
+                      : current[i].min;
+          fits = (sendMax || max >= needMax[inter][i]) && (sendMin || min <= needMin[inter][i]);
+          bits += learningBits(max - min + 1, counts[inter]);
+        }
+        if (fits && (!best || bits < *best)) {
+          best = bits;
+          bestCombo = combo;
+        }
+      }
+      for (int fap = 3; fap <= kFapCount; ++fap) {
+        const auto i = static_cast<size_t>(fap - 1);
+        if (!state_.mask[i]) continue;
+        if (bestCombo & 1) {
+          codes[inter ? kInterMax : kIntraMax][i] = fitCode(needMax[inter][i], options_.fapQuant);
+        }
+        if (bestCombo & 2) {
+          codes[inter ? kInterMin : kIntraMin][i] = fitCode(-needMin[inter][i], options_.fapQuant);
+        }
+      }
+    }
+    return codes;
+  }
+
+  // Codes a level under the intra range (uniform, see PredictiveState) or the inter range and
+  // model; returns it clipped to the range.
+  int codeLevel(ArithmeticEncoder& coder, int64_t level, bool intra, const LevelRange& range,
+                AdaptiveModel& interModel) {
+    if (level < range.min || level > range.max) {
+      ++output_.stats.clippedValues;
+      level = std::clamp<int64_t>(level, range.min, range.max);
+    }
+    const auto symbol = static_cast<int>(level - range.min);
+    if (intra) {
+      coder.encodeUniform(symbol, range.size());
+    } else {
+      coder.encode(symbol, interModel);
+    }
+    return static_cast<int>(level);
+  }
+
+  void encodeData(const FapFrame& frame, bool intra) {
+    ArithmeticEncoder coder(out_);
+    const std::array<int, kVisemeExpressionFields> values = visemeExpressionValues(frame);
+    const auto fields = [&](size_t first, size_t last) {
+      for (size_t k = first; k < last; ++k) {
+        int64_t& previous = state_.visemeExpressionPrevious[k];
+        const int64_t step = kFields[k].quantised ? state_.fapQuant : 0;
+        const int64_t prediction = intra ? 0 : previous;
+        const int level =
+            codeLevel(coder, quantise(values[k] - prediction, step), intra,
+                      intra ? state_.visemeExpressionIntra[k] : state_.visemeExpressionInter[k],
+                      state_.visemeExpressionInterModel[k]);
+        previous = prediction + dequantise(level, step);
+      }
+      coder.flush();
+    };
+    if (state_.mask[0]) {
+      fields(0, kFirstExpressionField);
+      out_.writeBit(frame.viseme.def);
+    }
+    if (state_.mask[1]) {
+      fields(kFirstExpressionField, kFields.size());
+      out_.writeBit(frame.expression.initFace);
+      out_.writeBit(frame.expression.def);
+    }
+    for (int fap = 3; fap <= kFapCount; ++fap) {
+      const auto i = static_cast<size_t>(fap - 1);
+      if (!state_.mask[i]) continue;
+      const int64_t step = state_.step(fap);
+      const int64_t prediction = intra ? 0 : state_.previous[i];
+      const int level =
+          codeLevel(coder, quantise(frame.values[i] - prediction, step), intra,
+                    intra ? state_.intraRange[i] : state_.interRange[i], state_.interModel[i]);
+      state_.previous[i] = prediction + dequantise(level, step);
+    }
+    coder.flush();
+
+    FapFrame& reconstruction = output_.reconstruction.frames.emplace_back();
+    reconstruction.number = frame.number;
+    fillFrame(state_, reconstruction);
+    if (state_.mask[0]) reconstruction.viseme.def = frame.viseme.def;
+    if (state_.mask[1]) {
+      reconstruction.expression.initFace = frame.expression.initFace;
+      reconstruction.expression.def = frame.expression.def;
+    }
+  }
+
+  std::span<const FapFrame> frames_;
+  const FbaEncodeOptions& options_;
+  FrameRateCode rate_;
+  EncodeOutput& output_;
+  BitWriter& out_;
+  PredictiveState state_;
+};
+
+}  // namespace
+
+void encodePredictive(std::span<const FapFrame> frames, const FbaEncodeOptions& options,
+                      const FrameRateCode& rate, EncodeOutput& output) {
+  PredictiveEncoder encoder(frames, options, rate, output);
+  // A group runs from an intra frame to the next frame with another mask (inter planes code
+  // the intra plane's mask) or to the intra period.
+  for (size_t begin = 0; begin < frames.size();) {
+    size_t end = begin + 1;
+    while (end < frames.size() && frames[end].mask == frames[begin].mask &&
+           (options.intraPeriod == 0 || end - begin < static_cast<size_t>(options.intraPeriod))) {
+      ++end;
+    }
+    encoder.encodeGroup(begin, end);
+    begin = end;
+  }
+}
+
+// ---------------------------------------------------------------------------------- decoder
+
+void PredictiveDecoder::decodeIntra(BitReader& in, const IntraSettings& settings, FapFrame& frame) {
+  state_.beginIntra(settings.fapQuant, settings.mask);
+  bool flags[4];
+  for (int flag = 0; flag < 4; ++flag) flags[flag] = in.readBit(kFlagNames[flag]);
+  for (int flag = 0; flag < 4; ++flag) {
+    if (!flags[flag]) continue;
+    forEachRangeSlot([&](int fap, bool marker) {
+      if (marker && !in.readBit("marker_bit")) {
+        in.failAt(in.position() - 1, "marker_bit",
+                  std::string("is 0 in the ") + kCodeNames[flag] + " codes");
+      }
+      const auto i = static_cast<size_t>(fap - 1);
+      if (state_.mask[i]) applyRangeCode(state_, flag, i, in.readBits(5, kCodeNames[flag]));
+    });
+  }
+  state_.resetModels();
+  decodeData(in, true, frame);
+}
+
+void PredictiveDecoder::decodeInter(BitReader& in, FapFrame& frame) {
+  decodeData(in, false, frame);
+}
+
+void PredictiveDecoder::decodeData(BitReader& in, bool intra, FapFrame& frame) {
+  const auto fields = [&](size_t first, size_t last, const char* segment) {
+    ArithmeticDecoder coder(in);
+    for (size_t k = first; k < last; ++k) {
+      int64_t& previous = state_.visemeExpressionPrevious[k];
+      const LevelRange& range =
+          intra ? state_.visemeExpressionIntra[k] : state_.visemeExpressionInter[k];
+      const int symbol = intra ? coder.decodeUniform(range.size())
+                               : coder.decode(state_.visemeExpressionInterModel[k]);
+      const int64_t step = kFields[k].quantised ? state_.fapQuant : 0;
+      previous = (intra ? 0 : previous) + dequantise(symbol + range.min, step);
+      if (!kFields[k].quantised && (previous < 0 || previous > kFields[k].maxValue)) {
+        in.fail(kFields[k].name, "decodes to " + std::to_string(previous) + ", outside 0.." +
+                                     std::to_string(kFields[k].maxValue));
+      }
+    }
+    coder.finish(segment);
+  };
+  if (state_.mask[0]) {
+    fields(0, kFirstExpressionField, "viseme (FAP 1) data");
+    frame.viseme.def = in.readBit("viseme_def");
+  }
+  if (state_.mask[1]) {
+    fields(kFirstExpressionField, kFields.size(), "expression (FAP 2) data");
+    frame.expression.initFace = in.readBit("init_face");
+    frame.expression.def = in.readBit("expression_def");
+  }
+  ArithmeticDecoder coder(in);
+  for (int fap = 3; fap <= kFapCount; ++fap) {
+    const auto i = static_cast<size_t>(fap - 1);
+    if (!state_.mask[i]) continue;
+    const LevelRange& range = intra ? state_.intraRange[i] : state_.interRange[i];
+    const int symbol =
+        intra ? coder.decodeUniform(range.size()) : coder.decode(state_.interModel[i]);
+    int64_t& previous = state_.previous[i];
+    previous = (intra ? 0 : previous) + dequantise(symbol + range.min, state_.step(fap));
+    if (previous < -kMaxReconstruction || previous > kMaxReconstruction) {
+      in.fail("FAP " + std::to_string(fap), "the reconstruction reaches " +
+                                                std::to_string(previous) + ", beyond +-" +
+                                                std::to_string(kMaxReconstruction));
+    }
+  }
+  coder.finish("low-level FAP data");
+  fillFrame(state_, frame);
+}
+
+}  // namespace mpeg4face::fba
