@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// libFuzzer target for the DCT coding mode. The input is decoded as a DCT FAP stream, and also
-// read as a recipe for a FAP stream that is encoded and decoded again. mpeg4face::Error is the
+// libFuzzer target for the DCT coding mode of the FBA bitstream. The input is decoded as an FBA
+// stream (the seeds are DCT-mode streams), and also read as a recipe for a FAP stream that is
+// encoded in the DCT mode and decoded again. mpeg4face::Error is the
 // expected outcome for broken input; any other exception, a crash, a hang, a sanitizer report
 // or a decoder that disagrees with the encoder's reconstruction is a bug.
 #include <algorithm>
@@ -10,22 +11,24 @@
 #include <cstdlib>
 #include <span>
 
-#include "mpeg4face/dct_codec.hpp"
+#include "mpeg4face/dct_transform.hpp"
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/fba_codec.hpp"
 
 namespace {
 
 using namespace mpeg4face;
 
 // The decoder returns the encoder's reconstruction, with the input's frame numbers, masks and
-// FAP 1/2.
-void checkDecodes(const FapStream& stream, const DctEncoded& encoded) {
-  const FapStream decoded = decodeDct(encoded.bytes);
-  if (decoded != encoded.reconstruction || decoded.frames.size() != stream.frames.size())
+// FAP 1/2 (after the empty frame 0 the bitstream puts in front of a stream starting later).
+void checkDecodes(const FapStream& stream, const FbaEncoding& encoded) {
+  const FapStream decoded = decodeFba(encoded.bytes);
+  if (decoded != encoded.reconstruction || decoded.frames.size() < stream.frames.size())
     std::abort();
+  const std::size_t offset = decoded.frames.size() - stream.frames.size();
   for (std::size_t t = 0; t < stream.frames.size(); ++t) {
     const FapFrame& a = stream.frames[t];
-    const FapFrame& b = decoded.frames[t];
+    const FapFrame& b = decoded.frames[offset + t];
     if (a.number != b.number || a.mask != b.mask || a.viseme != b.viseme ||
         a.expression != b.expression)
       std::abort();
@@ -33,7 +36,7 @@ void checkDecodes(const FapStream& stream, const DctEncoded& encoded) {
 }
 
 // Bytes to a stream the encoder must take: options, then per frame a skip, a 68-bit mask,
-// FAP 1/2 fields and a step (-128..127, times 4) of each masked low-level FAP's value.
+// FAP 1/2 fields and a step (-128..127) of each masked low-level FAP's value.
 struct Recipe {
   std::span<const uint8_t> data;
   std::size_t at = 0;
@@ -43,12 +46,14 @@ struct Recipe {
 
 void fuzzEncoder(std::span<const uint8_t> data) {
   Recipe r{data};
-  const DctOptions options{
-      .fapQuant = 1 + r.next() % 31, .dcDivisor = 1 + r.next() % 15, .intraInterval = r.next() % 4};
+  const FbaEncodeOptions options{.mode = FapCodingMode::Dct,
+                                 .fapQuant = 1 + r.next() % 31,
+                                 .intraPeriod = r.next() % 64,
+                                 .dcDivisor = 1 + r.next() % 15};
   FapStream stream;
   int number = r.next() % 8;
   std::array<int, kFapCount> value{};
-  while (r.more() && stream.frames.size() < 100) {
+  while (r.more() && stream.frames.size() < 48) {
     FapFrame f;
     f.number = number;
     number += 1 + (r.next() % 8 == 0 ? r.next() : 0);
@@ -64,12 +69,11 @@ void fuzzEncoder(std::span<const uint8_t> data) {
     for (int fap = 3; fap <= kFapCount; ++fap) {
       int& v = value[static_cast<std::size_t>(fap - 1)];
       if (f.has(fap))
-        f.set(fap,
-              v = std::clamp(v + 4 * static_cast<int8_t>(r.next()), -kDctMaxValue, kDctMaxValue));
+        f.set(fap, v = std::clamp(v + static_cast<int8_t>(r.next()), -kDctMaxValue, kDctMaxValue));
     }
     stream.frames.push_back(f);
   }
-  checkDecodes(stream, encodeDct(stream, options));  // an Error here is a bug too
+  checkDecodes(stream, encodeFba(stream, options));  // an Error here is a bug too
 }
 
 }  // namespace
@@ -78,14 +82,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fuzzEncoder(std::span(data, size));
   FapStream stream;
   try {
-    stream = decodeDct(std::span(data, size));
+    stream = decodeFba(std::span(data, size));
   } catch (const Error&) {
     return 0;
   }
   // A stream the decoder accepted re-encodes, unless its values exceed what the encoder takes.
-  DctEncoded encoded;
+  FbaEncoding encoded;
   try {
-    encoded = encodeDct(stream);
+    encoded = encodeFba(stream, {.mode = FapCodingMode::Dct});
   } catch (const Error&) {
     return 0;
   }

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The 16-point DCT of the DCT coding mode: a double-precision forward transform for the
 // encoder and an integer inverse that defines the decoder's output exactly (see
-// dct_codec.hpp and docs/dct-mode.md).
+// dct_transform.hpp and docs/dct-mode.md).
 #include <cmath>
 #include <numbers>
 
-#include "mpeg4face/dct_codec.hpp"
+#include "mpeg4face/dct_transform.hpp"
 
 namespace mpeg4face {
 namespace {

@@ -1,55 +1,81 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Writes the broken DCT FAP streams dct_*.m4fd next to this script for
-tests/cpp/test_dct_codec.cpp (each test checks the element and byte the error names). All
-but the first two start from ../dct/irregular.m4fd, a valid stream (docs/dct-mode.md):
+"""Writes the broken DCT-mode FBA streams dct_*.fba next to this script for
+tests/cpp/test_dct_codec.cpp (each test checks the element and message the error names). All
+start from ../dct/irregular.fba, a valid stream of one intra DCT plane and inter DCT planes
+(docs/dct-mode.md); the fields are found by reading the plane header and intra settings as
+docs/bitstream.md gives them:
 
-- dct_empty.m4fd             zero bytes
-- dct_garbage.m4fd           512 bytes of SHA-256 chain output (seed: the file name)
-- dct_bad_version.m4fd       version 2
-- dct_bad_fap_quant.m4fd     fap_quant 0
-- dct_nan_frame_rate.m4fd    frame_rate a NaN
-- dct_huge_frame_count.m4fd  frame_count 2^32 - 1, far more than the data can hold
-- dct_name_past_end.m4fd     name_length 65535
-- dct_truncated.m4fd         cut to 60 % of its length
-- dct_trailing_bytes.m4fd    8 bytes of noise appended
-- dct_bit_flipped.m4fd       one bit of a level flipped: it decodes, and the CRC-32 says no
-- dct_bad_crc.m4fd           the last bit of the CRC-32 flipped
+- dct_truncated.fba        cut to 60 % of its length, inside an arithmetic-coded segment:
+                           decoding past the end gives FAP 48 a DC level out of range
+- dct_zero_dc_divisor.fba  dc_divisor 0 in the intra plane
+- dct_zero_fap_quant.fba   fap_quant 0 (no quantisation) in a DCT intra plane
+- dct_flipped_bit.fba      bit 259 (byte 32, bit 3), in the first segment's coded data,
+                           flipped: FAP 5's AC runs then pass coefficient 15
 
 Run: python3 tests/data/malformed/dct_generate.py
 """
 import pathlib
-import struct
-
-from gltf_generate import noise
 
 HERE = pathlib.Path(__file__).resolve().parent
+GROUP_SIZES = [2, 16, 12, 8, 4, 5, 3, 10, 4, 4]  # FAPs per group, groups 1..10
 
 
-def patched(data, offset, new):
-    return data[:offset] + new + data[offset + len(new):]
+class Bits:
+    def __init__(self, data):
+        self.data, self.pos = data, 0
+
+    def read(self, count):
+        value = 0
+        for _ in range(count):
+            value = value * 2 + ((self.data[self.pos // 8] >> (7 - self.pos % 8)) & 1)
+            self.pos += 1
+        return value
 
 
-def flipped(data, bit):
+def intra_fields(data):
+    """Bit offsets of fap_quant and dc_divisor in the first (intra) plane."""
+    bits = Bits(data)
+    assert bits.read(32) == 0x1BA and bits.read(8) == 0x7F and bits.read(32) == 0x1BB
+    assert bits.read(1) == 1 and bits.read(2) == 1  # is_intra_frame, fba_paramset_mask
+    if bits.read(1):  # is_frame_rate
+        bits.read(13)
+    if bits.read(1):  # is_time_code
+        bits.read(18)
+    if bits.read(1):  # skip_frames
+        while bits.read(4) == 15:
+            pass
+    fap_quant = bits.pos
+    bits.read(5)
+    for size in GROUP_SIZES:
+        assert bits.read(1) == 1  # marker_bit
+        if bits.read(2) in (1, 2):
+            bits.read(size)
+    bits.read(1)  # suggested_gender
+    assert bits.read(1) == 1  # coding_type: DCT
+    return fap_quant, bits.pos
+
+
+def with_bits(data, offset, count, value):
     out = bytearray(data)
-    out[bit // 8] ^= 0x80 >> (bit % 8)
+    for i in range(count):
+        bit = offset + i
+        out[bit // 8] &= ~(0x80 >> (bit % 8)) & 0xFF
+        if (value >> (count - 1 - i)) & 1:
+            out[bit // 8] |= 0x80 >> (bit % 8)
     return bytes(out)
 
 
 def main():
-    valid = (HERE.parent / "dct" / "irregular.m4fd").read_bytes()
+    valid = (HERE.parent / "dct" / "irregular.fba").read_bytes()
+    fap_quant, dc_divisor = intra_fields(valid)
+    flipped = bytearray(valid)
+    flipped[259 // 8] ^= 0x80 >> (259 % 8)
     files = {
-        "dct_empty.m4fd": b"",
-        "dct_garbage.m4fd": noise("dct_garbage.m4fd"),
-        "dct_bad_version.m4fd": patched(valid, 4, b"\x02"),
-        "dct_bad_fap_quant.m4fd": patched(valid, 5, b"\x00"),
-        "dct_nan_frame_rate.m4fd": patched(valid, 7, struct.pack(">d", float("nan"))),
-        "dct_huge_frame_count.m4fd": patched(valid, 15, b"\xff\xff\xff\xff"),
-        "dct_name_past_end.m4fd": patched(valid, 19, b"\xff\xff"),
-        "dct_truncated.m4fd": valid[: len(valid) * 6 // 10],
-        "dct_trailing_bytes.m4fd": valid + noise("dct_trailing_bytes.m4fd", 8),
-        "dct_bit_flipped.m4fd": flipped(valid, 60 * 8 + 3),
-        "dct_bad_crc.m4fd": flipped(valid, len(valid) * 8 - 1),
+        "dct_truncated.fba": valid[: len(valid) * 6 // 10],
+        "dct_zero_dc_divisor.fba": with_bits(valid, dc_divisor, 4, 0),
+        "dct_zero_fap_quant.fba": with_bits(valid, fap_quant, 5, 0),
+        "dct_flipped_bit.fba": bytes(flipped),
     }
     for name, data in files.items():
         (HERE / name).write_bytes(data)
