@@ -48,12 +48,21 @@ uint32_t AdaptiveModel::countBelow(int symbol) const {
 }
 
 int AdaptiveModel::find(uint32_t target) const {
-  if (fresh_) return static_cast<int>(target);
+  uint32_t below = 0;
+  return find(target, below);
+}
+
+int AdaptiveModel::find(uint32_t target, uint32_t& below) const {
+  if (fresh_) {
+    below = target;
+    return static_cast<int>(target);
+  }
   size_t pos = 0;
+  below = 0;
   for (size_t step = topBit_; step > 0; step >>= 1) {
-    if (pos + step < tree_.size() && tree_[pos + step] <= target) {
+    if (pos + step < tree_.size() && below + tree_[pos + step] <= target) {
       pos += step;
-      target -= tree_[pos];
+      below += tree_[pos];
     }
   }
   return static_cast<int>(pos);
@@ -94,27 +103,45 @@ void ArithmeticEncoder::encodeUniform(int symbol, int symbolCount) {
   narrow(upper - 1, upper, static_cast<uint32_t>(symbolCount));
 }
 
+inline void ArithmeticEncoder::put(bool bit) {
+  if (zeroRun_ == kMaxZeroRun) [[unlikely]] {
+    out_.writeBit(true);
+    zeroRun_ = 0;
+  }
+  out_.writeBit(bit);
+  zeroRun_ = bit ? 0 : zeroRun_ + 1;
+}
+
+inline void ArithmeticEncoder::emit(bool bit) {
+  put(bit);
+  for (; pending_ > 0; --pending_) put(!bit);
+}
+
 void ArithmeticEncoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
-  const uint32_t length = high_ - low_ + 1;
-  high_ = low_ - 1 + length * upper / total;
-  low_ += length * lower / total;
+  uint32_t low = low_,
+           high = high_;  // locals: emit() writes memory the compiler cannot see through
+  const uint32_t length = high - low + 1;
+  high = low - 1 + length * upper / total;
+  low += length * lower / total;
   for (;;) {
-    if (high_ < kQ2) {
+    if (high < kQ2) {
       emit(false);
-    } else if (low_ >= kQ2) {
+    } else if (low >= kQ2) {
       emit(true);
-      low_ -= kQ2;
-      high_ -= kQ2;
-    } else if (low_ >= kQ1 && high_ < kQ3) {
+      low -= kQ2;
+      high -= kQ2;
+    } else if (low >= kQ1 && high < kQ3) {
       ++pending_;
-      low_ -= kQ1;
-      high_ -= kQ1;
+      low -= kQ1;
+      high -= kQ1;
     } else {
       break;
     }
-    low_ *= 2;
-    high_ = 2 * high_ + 1;
+    low *= 2;
+    high = 2 * high + 1;
   }
+  low_ = low;
+  high_ = high;
 }
 
 void ArithmeticEncoder::flush() {
@@ -125,39 +152,32 @@ void ArithmeticEncoder::flush() {
   zeroRun_ = 0;
 }
 
-void ArithmeticEncoder::emit(bool bit) {
-  put(bit);
-  for (; pending_ > 0; --pending_) put(!bit);
+// Called per coder bit, so the rare case is kept out of line.
+inline bool ArithmeticDecoder::get() {
+  const bool bit = in_.readBitOrZero();
+  if (zeroRun_ == kMaxZeroRun) [[unlikely]] {
+    return afterZeroRun(bit);
+  }
+  zeroRun_ = bit ? 0 : zeroRun_ + 1;
+  ++bitsRead_;
+  return bit;
 }
 
-void ArithmeticEncoder::put(bool bit) {
-  if (zeroRun_ == kMaxZeroRun) {
-    out_.writeBit(true);
-    zeroRun_ = 0;
+bool ArithmeticDecoder::afterZeroRun(bool bit) {
+  if (bit) {
+    stuffedAfter_.push_back(bitsRead_);
+    bit = in_.readBitOrZero();  // the stuffed 1 is not a coder bit
+  } else if (badStuffing_ == UINT64_MAX) {
+    // Legal only past the segment's end (where plain fields follow); finish() decides.
+    badStuffing_ = in_.position() - 1;
   }
-  out_.writeBit(bit);
-  zeroRun_ = bit ? 0 : zeroRun_ + 1;
+  zeroRun_ = bit ? 0 : 1;
+  ++bitsRead_;
+  return bit;
 }
 
 ArithmeticDecoder::ArithmeticDecoder(BitReader& in) : in_(in), start_(in.position()) {
   for (int i = 0; i < 16; ++i) value_ = 2 * value_ + (get() ? 1 : 0);
-}
-
-bool ArithmeticDecoder::get() {
-  bool bit = in_.readBitOrZero();
-  if (zeroRun_ == kMaxZeroRun) {
-    if (bit) {
-      bit = in_.readBitOrZero();  // the stuffed 1 is not a coder bit
-      zeroRun_ = 0;
-    } else if (badStuffing_ == UINT64_MAX) {
-      // Legal only past the segment's end (where plain fields follow); finish() decides.
-      badStuffing_ = in_.position() - 1;
-    }
-  }
-  zeroRun_ = bit ? 0 : zeroRun_ + 1;
-  ends_[bitsRead_ % 16] = in_.position();
-  ++bitsRead_;
-  return bit;
 }
 
 uint32_t ArithmeticDecoder::target(uint32_t total) const {
@@ -169,8 +189,9 @@ uint32_t ArithmeticDecoder::target(uint32_t total) const {
 
 int ArithmeticDecoder::decode(AdaptiveModel& model) {
   const uint32_t total = model.total();
-  const int symbol = model.find(target(total));
-  const uint32_t upper = total - model.countBelow(symbol);
+  uint32_t below = 0;
+  const int symbol = model.find(target(total), below);
+  const uint32_t upper = total - below;
   narrow(upper - model.count(symbol), upper, total);
   model.update(symbol);
   return symbol;
@@ -184,33 +205,40 @@ int ArithmeticDecoder::decodeUniform(int symbolCount) {
 }
 
 void ArithmeticDecoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
-  const uint32_t length = high_ - low_ + 1;
-  high_ = low_ - 1 + length * upper / total;
-  low_ += length * lower / total;
+  uint32_t low = low_, high = high_, value = value_;
+  const uint32_t length = high - low + 1;
+  high = low - 1 + length * upper / total;
+  low += length * lower / total;
   for (;;) {
-    if (high_ < kQ2) {
+    if (high < kQ2) {
       // nothing to subtract
-    } else if (low_ >= kQ2) {
-      value_ -= kQ2;
-      low_ -= kQ2;
-      high_ -= kQ2;
-    } else if (low_ >= kQ1 && high_ < kQ3) {
-      value_ -= kQ1;
-      low_ -= kQ1;
-      high_ -= kQ1;
+    } else if (low >= kQ2) {
+      value -= kQ2;
+      low -= kQ2;
+      high -= kQ2;
+    } else if (low >= kQ1 && high < kQ3) {
+      value -= kQ1;
+      low -= kQ1;
+      high -= kQ1;
     } else {
       break;
     }
-    low_ *= 2;
-    high_ = 2 * high_ + 1;
-    value_ = 2 * value_ + (get() ? 1 : 0);
+    low *= 2;
+    high = 2 * high + 1;
+    value = 2 * value + (get() ? 1 : 0);
   }
+  low_ = low;
+  high_ = high;
+  value_ = value;
 }
 
 void ArithmeticDecoder::finish(std::string_view element) {
   // The encoder wrote one bit per renormalisation plus 2 at the flush; the decoder read 16
-  // ahead plus one per renormalisation: the segment ended 14 coder bits ago.
-  const uint64_t end = ends_[(bitsRead_ - 15) % 16];
+  // ahead plus one per renormalisation: the segment holds all but the last 14 coder bits read,
+  // and the stuffed 1s before them.
+  const uint64_t coderBits = bitsRead_ - 14;
+  uint64_t end = start_ + coderBits;
+  for (uint64_t before : stuffedAfter_) end += before < coderBits ? 1 : 0;
   if (end > in_.size()) {
     in_.failAt(start_, element,
                "the arithmetic-coded segment starting here runs past the end of the data");

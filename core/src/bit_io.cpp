@@ -11,13 +11,6 @@ void BitWriter::writeBits(uint32_t value, int count) {
   for (int i = count - 1; i >= 0; --i) writeBit((value >> i) & 1);
 }
 
-void BitWriter::writeBit(bool bit) {
-  const int offset = static_cast<int>(bitCount_ & 7);
-  if (offset == 0) bytes_.push_back(0);
-  if (bit) bytes_.back() |= static_cast<uint8_t>(0x80 >> offset);
-  ++bitCount_;
-}
-
 void BitWriter::nextStartCode() {
   writeBit(false);
   while (bitCount_ & 7) writeBit(true);
@@ -42,12 +35,6 @@ uint32_t BitReader::readBits(int count, std::string_view element) {
 }
 
 bool BitReader::readBit(std::string_view element) { return readBits(1, element) != 0; }
-
-bool BitReader::readBitOrZero() {
-  const bool bit = position_ < size_ && bitAt(position_);
-  ++position_;
-  return bit;
-}
 
 bool BitReader::nextIsStartCode(uint32_t code) const {
   // The stuffing is 1..8 bits: a 0 then 1s to the boundary (8 bits when already aligned).

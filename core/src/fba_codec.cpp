@@ -108,6 +108,8 @@ FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options) 
       frames.empty() ? FapStream{}.frameRate : fba::framesPerSecond(rate);
   BitWriter out;
   out.writeBits(kFbaObjectStartCode, 32);
+  result.reconstruction.frames.reserve(frames.size());
+  result.stats.frameBits.reserve(frames.size());
   fba::EncodeOutput output{out, result.stats, result.reconstruction};
   switch (options.mode) {
     case FapCodingMode::Predictive:

@@ -139,6 +139,7 @@ std::array<int, kVisemeExpressionFields> visemeExpressionValues(const FapFrame& 
 void PredictiveState::beginIntra(int quant, const std::bitset<kFapCount>& newMask) {
   fapQuant = quant;
   mask = newMask;
+  for (size_t i = 0; i < steps.size(); ++i) steps[i] = int64_t{fapTable()[i].quantStep} * quant;
   if (!rangesSet) {
     for (int fap = 3; fap <= kFapCount; ++fap) {
       const FapInfo& info = fapTable()[static_cast<size_t>(fap - 1)];
@@ -170,10 +171,6 @@ void PredictiveState::resetModels() {
       visemeExpressionInterModel[k] = AdaptiveModel(visemeExpressionInter[k].size());
     }
   }
-}
-
-int64_t PredictiveState::step(int fap) const {
-  return int64_t{fapTable()[static_cast<size_t>(fap - 1)].quantStep} * fapQuant;
 }
 
 // ---------------------------------------------------------------------------------- encoder
@@ -234,27 +231,32 @@ class PredictiveEncoder {
     std::array<int64_t, kFapCount> needMax[2]{}, needMin[2]{};  // [intra / inter][fap - 1]
     // Levels beyond the largest range get clipped in the loop as they will be when coded.
     const int cap = levelsOf(kMaxRangeCode, options_.fapQuant);
-    int masked = 0;
-    for (int fap = 3; fap <= kFapCount; ++fap) {
-      const auto i = static_cast<size_t>(fap - 1);
-      if (!state_.mask[i]) continue;
-      ++masked;
-      const int64_t step = state_.step(fap);
-      int64_t level = std::clamp<int64_t>(quantise(frames_[begin].values[i], step), -cap, cap);
-      int64_t reconstruction = dequantise(level, step);
-      needMax[0][i] = std::max<int64_t>(level, 0);
-      needMin[0][i] = std::min<int64_t>(level, 0);
-      for (size_t k = begin + 1; k < end; ++k) {
-        level =
-            std::clamp<int64_t>(quantise(frames_[k].values[i] - reconstruction, step), -cap, cap);
-        reconstruction += dequantise(level, step);
-        needMax[1][i] = std::max(needMax[1][i], level);
-        needMin[1][i] = std::min(needMin[1][i], level);
+    std::vector<size_t> masked;  // indices fap - 1 of the low-level FAPs sent
+    for (size_t i = 2; i < kFapCount; ++i) {
+      if (state_.mask[i]) masked.push_back(i);
+    }
+    std::array<int64_t, kFapCount> reconstruction{};
+    for (size_t k = begin; k < end; ++k) {  // frame by frame: the frames lie in a row in memory
+      const int inter = k == begin ? 0 : 1;
+      for (size_t i : masked) {
+        const int64_t step = state_.steps[i];
+        const int64_t level = std::clamp<int64_t>(
+            quantise(frames_[k].values[i] - reconstruction[i], step), -cap, cap);
+        reconstruction[i] += dequantise(level, step);
+        needMax[inter][i] = std::max(needMax[inter][i], level);
+        needMin[inter][i] = std::min(needMin[inter][i], level);
       }
     }
-    const double codeBits = markerBitsPerFlag() + 5.0 * masked;
+    const double codeBits = markerBitsPerFlag() + 5.0 * static_cast<double>(masked.size());
     const int64_t counts[2] = {1, static_cast<int64_t>(end - begin) - 1};
 
+    // Reference decoders take an intra range [0, 0] of FAP 4 for "ranges not set yet" and put
+    // every range back to its default at the next intra plane; so FAP 4 keeps Imax > 0.
+    const auto fitted = [&](int inter, bool max, size_t i) {
+      const uint32_t code = max ? fitCode(needMax[inter][i], options_.fapQuant)
+                                : fitCode(-needMin[inter][i], options_.fapQuant);
+      return !inter && max && i == 3 ? std::max(code, 1u) : code;
+    };
     std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes{};
     for (int inter = 0; inter < 2; ++inter) {
       const auto& current = inter ? state_.interRange : state_.intraRange;
@@ -264,32 +266,23 @@ class PredictiveEncoder {
         const bool sendMax = combo & 1, sendMin = combo & 2;
         double bits = codeBits * ((sendMax ? 1 : 0) + (sendMin ? 1 : 0));
         bool fits = true;
-        for (int fap = 3; fap <= kFapCount && fits; ++fap) {
-          const auto i = static_cast<size_t>(fap - 1);
-          if (!state_.mask[i]) continue;
+        for (size_t i : masked) {
           const int max =
-              sendMax ? levelsOf(fitCode(needMax[inter][i], options_.fapQuant), options_.fapQuant)
-                      : current[i].max;
+              sendMax ? levelsOf(fitted(inter, true, i), options_.fapQuant) : current[i].max;
           const int min =
-              sendMin ? -levelsOf(fitCode(-needMin[inter][i], options_.fapQuant), options_.fapQuant)
-                      : current[i].min;
+              sendMin ? -levelsOf(fitted(inter, false, i), options_.fapQuant) : current[i].min;
           fits = (sendMax || max >= needMax[inter][i]) && (sendMin || min <= needMin[inter][i]);
           bits += learningBits(max - min + 1, counts[inter]);
+          if (!fits) break;
         }
         if (fits && (!best || bits < *best)) {
           best = bits;
           bestCombo = combo;
         }
       }
-      for (int fap = 3; fap <= kFapCount; ++fap) {
-        const auto i = static_cast<size_t>(fap - 1);
-        if (!state_.mask[i]) continue;
-        if (bestCombo & 1) {
-          codes[inter ? kInterMax : kIntraMax][i] = fitCode(needMax[inter][i], options_.fapQuant);
-        }
-        if (bestCombo & 2) {
-          codes[inter ? kInterMin : kIntraMin][i] = fitCode(-needMin[inter][i], options_.fapQuant);
-        }
+      for (size_t i : masked) {
+        if (bestCombo & 1) codes[inter ? kInterMax : kIntraMax][i] = fitted(inter, true, i);
+        if (bestCombo & 2) codes[inter ? kInterMin : kIntraMin][i] = fitted(inter, false, i);
       }
     }
     return codes;

@@ -43,7 +43,8 @@ struct PredictiveState {
   void beginIntra(int quant, const std::bitset<kFapCount>& newMask);
   // Fresh inter models for the masked FAPs (after the new ranges).
   void resetModels();
-  int64_t step(int fap) const;  // QP * fap_quant (0: no quantisation)
+  int64_t step(int fap) const { return steps[static_cast<size_t>(fap - 1)]; }
+  std::array<int64_t, kFapCount> steps{};  // QP * fap_quant (0: no quantisation), index fap - 1
 };
 
 // Encodes `frames` (numbers increasing, from 0) as predictive planes.

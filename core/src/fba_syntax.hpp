@@ -64,9 +64,14 @@ IntraSettings readIntraSettings(BitReader& in);
 // of x; step 0 means no quantisation.
 inline int64_t quantise(int64_t x, int64_t step) {
   if (step == 0) return x;
-  const int64_t a = x < 0 ? -x : x;
-  const int64_t level = a <= step / 2 ? 0 : (a + step / 2) / step;
-  return x < 0 ? -level : level;
+  const uint64_t a = static_cast<uint64_t>(x < 0 ? -x : x);
+  const auto half = static_cast<uint64_t>(step / 2);
+  // Values are bounded (kMaxFbaValue), so a 32-bit division does; it is the faster one.
+  const uint64_t level = a <= half ? 0
+                         : a < (uint64_t{1} << 31)
+                             ? static_cast<uint32_t>(a + half) / static_cast<uint32_t>(step)
+                             : (a + half) / static_cast<uint64_t>(step);
+  return x < 0 ? -static_cast<int64_t>(level) : static_cast<int64_t>(level);
 }
 inline int64_t dequantise(int64_t level, int64_t step) { return step == 0 ? level : level * step; }
 

@@ -38,6 +38,8 @@ class AdaptiveModel {
   uint32_t countBelow(int symbol) const;
   // The symbol s with countBelow(s) <= target < countBelow(s) + count(s); target < total().
   int find(uint32_t target) const;
+  // The same, also giving countBelow of the symbol found.
+  int find(uint32_t target, uint32_t& below) const;
   // Adds the coded symbol (halving first when the total has reached kMaxTotal).
   void update(int symbol);
   // -log2(count / total): what an ideal coder would spend on `symbol` now, in bits.
@@ -98,7 +100,8 @@ class ArithmeticDecoder {
   // expects it.
   uint32_t target(uint32_t total) const;
   void narrow(uint32_t lower, uint32_t upper, uint32_t total);
-  bool get();  // one coder bit, stuffing removed
+  bool get();                   // one coder bit, stuffing removed
+  bool afterZeroRun(bool bit);  // get() after 22 zeros: a stuffed 1, or a violation
 
   BitReader& in_;
   uint64_t start_;
@@ -106,8 +109,10 @@ class ArithmeticDecoder {
   uint32_t high_ = 65535;
   uint32_t value_ = 0;
   int zeroRun_ = 0;
-  uint64_t bitsRead_ = 0;              // coder bits, stuffing not counted
-  uint64_t ends_[16] = {};             // reader position after each of the last 16 coder bits
+  uint64_t bitsRead_ = 0;  // coder bits, stuffing not counted
+  // How many coder bits had been read when each stuffed 1 was skipped (rare), to find where
+  // the segment ends in the data.
+  std::vector<uint64_t> stuffedAfter_;
   uint64_t badStuffing_ = UINT64_MAX;  // first stuffing violation, if any
 };
 

@@ -22,7 +22,12 @@ class BitWriter {
  public:
   // The low `count` bits of `value` (count 0..32), most significant first.
   void writeBits(uint32_t value, int count);
-  void writeBit(bool bit);
+  void writeBit(bool bit) {  // inline: the arithmetic coder writes bit by bit
+    const auto offset = static_cast<unsigned>(bitCount_ & 7);
+    if (offset == 0) bytes_.push_back(0);
+    if (bit) bytes_.back() |= static_cast<uint8_t>(0x80u >> offset);
+    ++bitCount_;
+  }
   // next_start_code(): a 0 then 1s up to the byte boundary; a whole 0111 1111 byte when the
   // writer is already aligned, so a reader can always find and strip it.
   void nextStartCode();
@@ -50,7 +55,11 @@ class BitReader {
   bool readBit(std::string_view element);
   // The arithmetic decoder reads ahead of the data it needs: past the end it gets 0 bits and
   // the position still advances; ArithmeticDecoder::finish checks where the segment ended.
-  bool readBitOrZero();
+  bool readBitOrZero() {
+    const bool bit = position_ < size_ && bitAt(position_);
+    ++position_;
+    return bit;
+  }
 
   uint64_t position() const { return position_; }  // in bits from the start
   uint64_t size() const { return size_; }          // in bits
