@@ -2,10 +2,10 @@
 // The 16-point DCT of the DCT coding mode: a double-precision forward transform for the
 // encoder and an integer inverse that defines the decoder's output exactly (see
 // dct_transform.hpp and docs/dct-mode.md).
+#include "mpeg4face/dct_transform.hpp"
+
 #include <cmath>
 #include <numbers>
-
-#include "mpeg4face/dct_transform.hpp"
 
 namespace mpeg4face {
 namespace {
