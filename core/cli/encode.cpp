@@ -52,7 +52,7 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
     } else if (a == "--mode") {
       if (i + 1 >= args.size()) throw UsageError("--mode needs a mode");
       const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
-      if (!mode) throw UsageError("unknown mode '" + args[i] + "' (modes: predictive)");
+      if (!mode) throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct)");
       out.options.mode = *mode;
     } else if (a == "--fap-quant") {
       out.options.fapQuant = intArgument(args, i, 0, 31);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "fba_dct.hpp"
 #include "fba_predictive.hpp"
 #include "fba_syntax.hpp"
 #include "mpeg4face/error.hpp"
@@ -14,8 +15,9 @@
 namespace mpeg4face {
 namespace {
 
-constexpr std::array<std::pair<FapCodingMode, std::string_view>, 1> kModeNames{{
+constexpr std::array<std::pair<FapCodingMode, std::string_view>, 2> kModeNames{{
     {FapCodingMode::Predictive, "predictive"},
+    {FapCodingMode::Dct, "dct"},
 }};
 
 std::string hertz(double fps) {
@@ -113,6 +115,9 @@ FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options) 
     case FapCodingMode::Predictive:
       fba::encodePredictive(frames, options, rate, output);
       break;
+    case FapCodingMode::Dct:
+      fba::encodeDct(frames, options, rate, output);
+      break;
   }
   out.writeStartCode(kFbaObjectEndCode);
   result.stats.bits = out.bitCount();
@@ -130,6 +135,7 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
   std::optional<double> rate;
   std::optional<int> codingType;  // of the last intra plane
   fba::PredictiveDecoder predictive;
+  fba::DctDecoder dct(limits);
   int64_t number = 0;
   for (;;) {
     if (in.nextIsStartCode(kFbaObjectEndCode)) {
@@ -146,8 +152,12 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
       in.readStartCode(kFbaObjectPlaneStartCode, "fba_object_plane_start_code");
     }
     const fba::PlaneHeader header = fba::readPlaneHeader(in, limits.maxFrameNumber);
-    FapFrame& frame = stream.frames.emplace_back();
-    frame.number = static_cast<int>(number);
+    // A predictive plane is one frame; a DCT plane is a segment whose frames it appends.
+    const auto newFrame = [&]() -> FapFrame& {
+      FapFrame& frame = stream.frames.emplace_back();
+      frame.number = static_cast<int>(number);
+      return frame;
+    };
     if (header.isIntra) {
       if (header.frameRate) {
         const double fps = fba::framesPerSecond(*header.frameRate);
@@ -162,10 +172,11 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
       codingType = settings.codingType;
       switch (settings.codingType) {
         case fba::kCodingTypePredictive:
-          predictive.decodeIntra(in, settings, frame);
+          predictive.decodeIntra(in, settings, newFrame());
           break;
-        default:
-          in.failAt(in.position() - 1, "coding_type", "1 (DCT) is not supported yet");
+        case fba::kCodingTypeDct:
+          dct.decodeIntra(in, settings, number, stream.frames);
+          break;
       }
     } else {
       if (!codingType) {
@@ -174,11 +185,14 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
       }
       switch (*codingType) {
         case fba::kCodingTypePredictive:
-          predictive.decodeInter(in, frame);
+          predictive.decodeInter(in, newFrame());
+          break;
+        case fba::kCodingTypeDct:
+          dct.decodeInter(in, number, stream.frames);
           break;
       }
     }
-    number += 1 + header.framesToSkip;
+    number = int64_t{stream.frames.back().number} + 1 + header.framesToSkip;
     if (number > limits.maxFrameNumber) {
       in.fail("number_of_frames_to_skip",
               "frame numbers pass " + std::to_string(limits.maxFrameNumber) + " (FbaDecodeLimits)");

@@ -399,8 +399,9 @@ TEST(FbaCodec, HugeSkipMeetsTheFrameNumberLimit) {
   EXPECT_TRUE(contains(e, "more than 20000 frames")) << e.what();
 }
 
-// DCT planes (coding_type 1) are decoded by the DCT mode, not by this file's code yet.
-TEST(FbaCodec, DctCodingTypeIsRefusedClearly) {
+// DCT planes (coding_type 1) go to the DCT mode (fba_dct.cpp, tested in test_dct_codec.cpp):
+// this one ends right after coding_type, so its dc_divisor reads as the 0 bits of padding.
+TEST(FbaCodec, DctCodingTypeGoesToTheDctMode) {
   BitWriter w;
   w.writeBits(0x000001BA, 32);
   w.writeStartCode(0x000001BB);
@@ -409,8 +410,8 @@ TEST(FbaCodec, DctCodingTypeIsRefusedClearly) {
   for (int g = 0; g < 10; ++g) w.writeBits(0b1'00, 3);
   w.writeBits(0b0'1, 2);  // suggested_gender, coding_type 1
   const Error e = errorOf([&] { decodeFba(w.bytes()); });
-  EXPECT_EQ(e.field(), "coding_type");
-  EXPECT_TRUE(contains(e, "at bit 114 ")) << e.what();
+  EXPECT_EQ(e.field(), "dc_divisor");
+  EXPECT_TRUE(contains(e, "at bit 115 ")) << e.what();
 }
 
 TEST(FbaCodec, EveryTruncationAndBitFlipFailsCleanly) {

@@ -14,9 +14,10 @@
 namespace mpeg4face {
 
 // How the encoder codes FAPs. Predictive is the standard's coding_type 0 (quantised values and
-// frame-to-frame differences, adaptive arithmetic coding).
-enum class FapCodingMode { Predictive };
-std::string_view codingModeName(FapCodingMode mode);  // "predictive"
+// frame-to-frame differences, adaptive arithmetic coding). Dct is coding_type 1: 16-frame
+// segments, DCT per FAP (docs/dct-mode.md; its syntax is the project's own).
+enum class FapCodingMode { Predictive, Dct };
+std::string_view codingModeName(FapCodingMode mode);  // "predictive", "dct"
 std::optional<FapCodingMode> parseCodingMode(std::string_view name);
 
 struct FbaEncodeOptions {
@@ -27,6 +28,10 @@ struct FbaEncodeOptions {
   // An intra frame at least every intraPeriod frames sent (a decoder can join there); 0 =
   // intra frames only where needed: the first frame and wherever the FAP mask changes.
   int intraPeriod = 0;
+  // Dct mode: fapQuant 1..31 is the AC step's factor; the DC step is the AC step / dcDivisor
+  // (1..15; Tekalp-Ostermann 2.2.2 gives the ratio 1/4). intraPeriod counts frames too: a
+  // segment is intra when intraPeriod frames have been sent since the last intra segment began.
+  int dcDivisor = 4;
 };
 
 struct FbaEncodeStats {
