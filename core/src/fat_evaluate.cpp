@@ -16,6 +16,8 @@ namespace {
 constexpr int kVisemeCount = 15;     // 0..14, 0 = none
 constexpr int kExpressionCount = 7;  // 0..6, 0 = neutral
 constexpr int kMaxAmount = 63;       // viseme_blend, expression intensities
+// Runs of consecutive vertices replace the per-vertex slot list when they average this long.
+constexpr std::size_t kMinRun = 4;
 
 std::string tableField(std::size_t i, const FaceDefTables& t) {
   return "faceDefTables[" + std::to_string(i) + "] (" + fat::fapLabel(t.fapID, t.highLevelSelect) +
@@ -161,38 +163,77 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
   neutralTransforms_ = graph.transforms;
   neutralCoord_.reserve(graph.meshes.size());
   for (const IndexedFaceSet& mesh : graph.meshes) neutralCoord_.push_back(mesh.coord);
-  std::vector<bool> meshAnimated(graph.meshes.size(), false);
+
+  // The vertices of the meshes some table deforms get consecutive slots in FatState::work.
+  std::vector<std::int64_t> firstSlot(graph.meshes.size(), -1);
   std::vector<bool> transformAnimated(graph.transforms.size(), false);
+  for (const FaceDefTables& t : face.faceDefTables) {
+    for (const FaceDefMesh& m : t.faceDefMesh) firstSlot[m.mesh] = 0;
+    for (const FaceDefTransform& d : t.faceDefTransform) transformAnimated[d.transform] = true;
+  }
+  for (std::size_t m = 0; m < graph.meshes.size(); ++m) {
+    if (firstSlot[m] < 0) continue;
+    if (slotCount_ + graph.meshes[m].coord.rows() > std::size_t{UINT32_MAX}) {
+      throw Error({}, 0, "faceSceneGraph", "too many animated vertices");
+    }
+    firstSlot[m] = static_cast<std::int64_t>(slotCount_);
+    animatedMeshes_.push_back(static_cast<int>(m));
+    firstSlot_.push_back(static_cast<std::uint32_t>(slotCount_));
+    slotCount_ += static_cast<std::size_t>(graph.meshes[m].coord.rows());
+  }
+  for (std::size_t t = 0; t < transformAnimated.size(); ++t) {
+    if (transformAnimated[t]) animatedTransforms_.push_back(static_cast<int>(t));
+  }
 
   for (std::size_t i = 0; i < face.faceDefTables.size(); ++i) {
     const FaceDefTables& in = face.faceDefTables[i];
+    const std::string where = tableField(i, in);
     Table& table = tables_.emplace_back();
     table.fapID = in.fapID;
     table.highLevelSelect = in.fapID <= 2 ? in.highLevelSelect : 0;
-    table.scale = fat::requireFapScale(fapu, in.fapID, tableField(i, in));
+    table.scale = fat::requireFapScale(fapu, in.fapID, where);
     if (in.fapID >= 3) lowLevelWithTables_.set(static_cast<std::size_t>(in.fapID - 1));
-    for (const FaceDefMesh& src : in.faceDefMesh) {
-      meshAnimated[src.mesh] = true;
+    for (std::size_t k = 0; k < in.faceDefMesh.size(); ++k) {
+      const FaceDefMesh& src = in.faceDefMesh[k];
+      const auto toFloat = [&](double value) {
+        const auto f = static_cast<float>(value);
+        if (!std::isfinite(f)) {
+          throw Error({}, 0, where + ".faceDefMesh[" + std::to_string(k) + "].displacements",
+                      "a motion of " + std::to_string(value) + " model units is out of range");
+        }
+        return f;
+      };
       Mesh& m = table.meshes.emplace_back();
       m.mesh = src.mesh;
-      const std::size_t n = static_cast<std::size_t>(src.intervalCount());
+      const auto n = static_cast<std::size_t>(src.intervalCount());
       const std::size_t count = src.coordIndex.size();
       m.zeroIndex =
           static_cast<int>(std::ranges::find(src.intervalBorders, 0) - src.intervalBorders.begin());
-      m.vertex.assign(src.coordIndex.begin(), src.coordIndex.end());
+      for (int v : src.coordIndex) {
+        m.slot.push_back(static_cast<std::uint32_t>(firstSlot[src.mesh] + v));
+      }
+      for (std::size_t e = 0; e < count; ++e) {
+        if (e > 0 && m.slot[e] == m.slot[e - 1] + 1) {
+          ++m.runs.back().second;
+        } else {
+          m.runs.emplace_back(m.slot[e], 1);
+        }
+      }
+      if (m.runs.size() * kMinRun > count) m.runs.clear();
       m.slope.resize(3 * count * n);
       for (std::size_t j = 0; j < n; ++j) {
         Interval iv;
         iv.lower = src.intervalBorders[j];
         iv.upper = src.intervalBorders[j + 1];
         const bool negativeSide = n > 1 && j < static_cast<std::size_t>(m.zeroIndex);
-        iv.sign = negativeSide ? -1.0 : 1.0;
-        iv.inner = n == 1 ? 0.0 : negativeSide ? iv.upper : iv.lower;
+        iv.sign = negativeSide ? -1.0f : 1.0f;
+        iv.inner = static_cast<float>(n == 1 ? 0 : negativeSide ? iv.upper : iv.lower);
         m.intervals.push_back(iv);
         for (std::size_t v = 0; v < count; ++v) {
-          for (int c = 0; c < 3; ++c) {
-            m.slope[3 * (count * j + v) + c] =
-                static_cast<float>(table.scale * src.displacements(v * n + j, c));
+          for (std::size_t c = 0; c < 3; ++c) {
+            m.slope[(3 * j + c) * count + v] =
+                toFloat(table.scale *
+                        src.displacements(static_cast<Eigen::Index>(v * n + j), Eigen::Index(c)));
           }
         }
       }
@@ -203,43 +244,37 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
         std::size_t from = j + 1, to = zero;  // negative side: intervals j+1 .. zero-1
         if (j >= zero) from = zero, to = j;   // positive side: intervals zero .. j-1
         if (from >= to) continue;
-        m.intervals[j].baseOffset = static_cast<std::int64_t>(m.base.size());
+        const std::size_t offset = m.base.size();
+        m.intervals[j].baseOffset = static_cast<std::int64_t>(offset);
+        m.base.resize(offset + 3 * count);
         for (std::size_t v = 0; v < count; ++v) {
           Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-          for (std::size_t k = from; k < to; ++k) {
-            sum += double(src.intervalBorders[k + 1] - src.intervalBorders[k]) *
-                   src.displacements.row(static_cast<Eigen::Index>(v * n + k));
+          for (std::size_t b = from; b < to; ++b) {
+            sum += (double(src.intervalBorders[b + 1]) - src.intervalBorders[b]) *
+                   src.displacements.row(static_cast<Eigen::Index>(v * n + b));
           }
-          for (int c = 0; c < 3; ++c) m.base.push_back(static_cast<float>(table.scale * sum[c]));
+          for (std::size_t c = 0; c < 3; ++c) {
+            m.base[offset + c * count + v] = toFloat(table.scale * sum[Eigen::Index(c)]);
+          }
         }
       }
     }
-    for (const FaceDefTransform& def : in.faceDefTransform) {
-      transformAnimated[def.transform] = true;
-      table.transforms.push_back({def, {}});
-    }
+    for (const FaceDefTransform& def : in.faceDefTransform) table.transforms.push_back({def, {}});
   }
   std::ranges::sort(tables_, [](const Table& a, const Table& b) {
     return std::pair(a.fapID, a.highLevelSelect) < std::pair(b.fapID, b.highLevelSelect);
   });
-  for (std::size_t m = 0; m < meshAnimated.size(); ++m) {
-    if (meshAnimated[m]) animatedMeshes_.push_back(static_cast<int>(m));
-  }
-  for (std::size_t t = 0; t < transformAnimated.size(); ++t) {
-    if (transformAnimated[t]) animatedTransforms_.push_back(static_cast<int>(t));
-  }
 
-  // Priority of low-level FAPs: which of them cover each vertex / Transform field that a
+  // Priority of low-level FAPs: which of them cover each vertex slot / Transform field that a
   // viseme or expression table moves.
-  std::map<int, std::vector<FapBits>> vertexCover;  // per mesh, per vertex
+  std::vector<FapBits> slotCover;
   std::map<std::pair<int, int>, FapBits> fieldCover;
   for (const Table& t : tables_) {
     if (t.fapID <= 2) continue;
     const auto bit = static_cast<std::size_t>(t.fapID - 1);
     for (const Mesh& m : t.meshes) {
-      auto& cover = vertexCover[m.mesh];
-      cover.resize(static_cast<std::size_t>(graph.meshes[m.mesh].vertexCount()));
-      for (std::uint32_t v : m.vertex) cover[v].set(bit);
+      slotCover.resize(slotCount_);
+      for (std::uint32_t s : m.slot) slotCover[s].set(bit);
     }
     for (const TransformDef& d : t.transforms) {
       fieldCover[{d.def.transform, static_cast<int>(d.def.fieldId)}].set(bit);
@@ -248,10 +283,9 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
   for (Table& t : tables_) {
     if (t.fapID > 2) continue;
     for (Mesh& m : t.meshes) {
-      m.coveredBy.assign(m.vertex.size(), FapBits());
-      const auto it = vertexCover.find(m.mesh);
-      if (it == vertexCover.end()) continue;
-      for (std::size_t i = 0; i < m.vertex.size(); ++i) m.coveredBy[i] = it->second[m.vertex[i]];
+      m.coveredBy.assign(m.slot.size(), FapBits());
+      if (slotCover.empty()) continue;
+      for (std::size_t i = 0; i < m.slot.size(); ++i) m.coveredBy[i] = slotCover[m.slot[i]];
     }
     for (TransformDef& d : t.transforms) {
       const auto it = fieldCover.find({d.def.transform, static_cast<int>(d.def.fieldId)});
@@ -260,7 +294,9 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
   }
 }
 
-FatState FatEvaluator::neutralState() const { return {neutralCoord_, neutralTransforms_}; }
+FatState FatEvaluator::neutralState() const {
+  return {neutralCoord_, neutralTransforms_, std::vector<float>(3 * slotCount_, 0.0f)};
+}
 
 FatState FatEvaluator::evaluate(const FapFrame& frame) const {
   FatState state = neutralState();
@@ -268,50 +304,65 @@ FatState FatEvaluator::evaluate(const FapFrame& frame) const {
   return state;
 }
 
-void FatEvaluator::addMesh(const Mesh& m, double value, Points3& coord,
-                           const FapBits* active) const {
+namespace {
+
+// One run of consecutive vertex slots: w += b + c * s per axis, as loops the compiler
+// vectorises (x, y, z are `stride` floats apart in w, `n` apart in b and s).
+template <bool kBase>
+void addRun(float* __restrict w, std::size_t stride, const float* __restrict b,
+            const float* __restrict s, std::size_t n, float c, std::size_t length) {
+  float* __restrict wx = w;
+  float* __restrict wy = w + stride;
+  float* __restrict wz = w + 2 * stride;
+  for (std::size_t k = 0; k < length; ++k) {
+    wx[k] += (kBase ? b[k] : 0.0f) + c * s[k];
+    wy[k] += (kBase ? b[n + k] : 0.0f) + c * s[n + k];
+    wz[k] += (kBase ? b[2 * n + k] : 0.0f) + c * s[2 * n + k];
+  }
+}
+
+}  // namespace
+
+void FatEvaluator::addMesh(const Mesh& m, int value, float* work, const FapBits* active) const {
   const std::size_t j = intervalOf(m.intervals, static_cast<std::size_t>(m.zeroIndex), value);
   const Interval& iv = m.intervals[j];
-  const double c = iv.sign * (value - iv.inner);
-  const std::size_t count = m.vertex.size();
-  const std::uint32_t* vertex = m.vertex.data();
+  const float c = iv.sign * (static_cast<float>(value) - iv.inner);
+  const std::size_t count = m.slot.size();
   const float* slope = m.slope.data() + 3 * count * j;
   const float* base = iv.baseOffset >= 0 ? m.base.data() + iv.baseOffset : nullptr;
-  double* p = coord.data();
-  if (active) {  // a viseme or expression: skip the vertices a present low-level FAP moves
-    for (std::size_t i = 0; i < count; ++i) {
-      if ((m.coveredBy[i] & *active).any()) continue;
-      double* q = p + 3 * std::size_t{vertex[i]};
-      const float* s = slope + 3 * i;
-      const double b0 = base ? base[3 * i] : 0.0, b1 = base ? base[3 * i + 1] : 0.0,
-                   b2 = base ? base[3 * i + 2] : 0.0;
-      q[0] += b0 + c * s[0];
-      q[1] += b1 + c * s[1];
-      q[2] += b2 + c * s[2];
+  if (!active && !m.runs.empty()) {
+    std::size_t entry = 0;
+    for (auto [first, length] : m.runs) {
+      if (base) {
+        addRun<true>(work + first, slotCount_, base + entry, slope + entry, count, c, length);
+      } else {
+        addRun<false>(work + first, slotCount_, nullptr, slope + entry, count, c, length);
+      }
+      entry += length;
     }
-  } else if (base) {
-    for (std::size_t i = 0; i < count; ++i) {
-      double* q = p + 3 * std::size_t{vertex[i]};
-      const float* s = slope + 3 * i;
-      const float* b = base + 3 * i;
-      q[0] += b[0] + c * s[0];
-      q[1] += b[1] + c * s[1];
-      q[2] += b[2] + c * s[2];
-    }
-  } else {
-    for (std::size_t i = 0; i < count; ++i) {
-      double* q = p + 3 * std::size_t{vertex[i]};
-      const float* s = slope + 3 * i;
-      q[0] += c * s[0];
-      q[1] += c * s[1];
-      q[2] += c * s[2];
+    return;
+  }
+  const std::uint32_t* slot = m.slot.data();
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    float* w = work + axis * slotCount_;
+    const float* s = slope + axis * count;
+    const float* b = base ? base + axis * count : nullptr;
+    if (active) {  // a viseme or expression: skip the vertices a present low-level FAP moves
+      for (std::size_t i = 0; i < count; ++i) {
+        if ((m.coveredBy[i] & *active).any()) continue;
+        w[slot[i]] += (b ? b[i] : 0.0f) + c * s[i];
+      }
+    } else if (b) {
+      for (std::size_t i = 0; i < count; ++i) w[slot[i]] += b[i] + c * s[i];
+    } else {
+      for (std::size_t i = 0; i < count; ++i) w[slot[i]] += c * s[i];
     }
   }
 }
 
 void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
   if (state.coord.size() != neutralCoord_.size() ||
-      state.transforms.size() != neutralTransforms_.size()) {
+      state.transforms.size() != neutralTransforms_.size() || state.work.size() != 3 * slotCount_) {
     throw Error({}, 0, "state", "not shaped for this face (make it with neutralState())");
   }
   for (int m : animatedMeshes_) {
@@ -320,12 +371,6 @@ void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
                   std::to_string(state.coord[m].rows()) + " vertices, the mesh has " +
                       std::to_string(neutralCoord_[m].rows()));
     }
-    state.coord[m] = neutralCoord_[m];
-  }
-  for (int t : animatedTransforms_) {
-    state.transforms[t].translation = neutralTransforms_[t].translation;
-    state.transforms[t].rotation = neutralTransforms_[t].rotation;
-    state.transforms[t].scale = neutralTransforms_[t].scale;
   }
   const auto check = [](int value, int limit, const char* field) {
     if (value < 0 || value > limit) {
@@ -345,6 +390,14 @@ void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
     check(ex.intensity1, kMaxAmount, "expression_intensity1");
     check(ex.intensity2, kMaxAmount, "expression_intensity2");
   }
+  for (int t : animatedTransforms_) {
+    state.transforms[t].translation = neutralTransforms_[t].translation;
+    state.transforms[t].rotation = neutralTransforms_[t].rotation;
+    state.transforms[t].scale = neutralTransforms_[t].scale;
+  }
+
+  // Sum every table's motion per vertex slot, then add the sums to the neutral positions.
+  float* work = state.work.data();
   const FapBits active = frame.mask & lowLevelWithTables_;
   for (const Table& t : tables_) {
     if (!frame.has(t.fapID)) continue;
@@ -359,12 +412,25 @@ void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
     }
     if (value == 0) continue;
     const FapBits* priority = t.fapID <= 2 && active.any() ? &active : nullptr;
-    for (const Mesh& m : t.meshes) addMesh(m, value, state.coord[m.mesh], priority);
+    for (const Mesh& m : t.meshes) addMesh(m, value, work, priority);
     for (const TransformDef& d : t.transforms) {
       if (priority && (d.coveredBy & active).any()) continue;
       applyFaceDefTransform(d.def, value * t.scale, state.transforms[d.def.transform]);
     }
   }
+  for (std::size_t k = 0; k < animatedMeshes_.size(); ++k) {
+    const Points3& neutral = neutralCoord_[animatedMeshes_[k]];
+    Points3& out = state.coord[animatedMeshes_[k]];
+    const float* x = work + firstSlot_[k];
+    const float* y = x + slotCount_;
+    const float* z = y + slotCount_;
+    for (Eigen::Index v = 0; v < neutral.rows(); ++v) {
+      out(v, 0) = neutral(v, 0) + x[v];
+      out(v, 1) = neutral(v, 1) + y[v];
+      out(v, 2) = neutral(v, 2) + z[v];
+    }
+  }
+  std::fill(state.work.begin(), state.work.end(), 0.0f);
 }
 
 }  // namespace mpeg4face

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -206,9 +207,12 @@ TEST(FatEvaluate, AgreesWithTheIntervalWeightsOnRandomTables) {
         m.intervalBorders.push_back(0);
         b = 0;
         for (int k = below; k < n; ++k) m.intervalBorders.push_back(b += border(rng));
-        for (int v = mesh; v < face.faceSceneGraph.meshes[mesh].vertexCount(); v += 1 + fap % 3) {
+        for (int v = mesh; v < face.faceSceneGraph.meshes[mesh].vertexCount();
+             v += fap == 3 ? 1 : 2) {
           m.coordIndex.push_back(v);
         }
+        // Runs of consecutive vertices (FAP 3), every other vertex, and any order (FAP 31).
+        if (fap == 31) std::reverse(m.coordIndex.begin(), m.coordIndex.end());
         m.displacements.resize(static_cast<Eigen::Index>(m.coordIndex.size()) * n, 3);
         for (Eigen::Index r = 0; r < m.displacements.rows(); ++r)
           m.displacements.row(r) << d(rng), d(rng), d(rng);

@@ -6,6 +6,7 @@
 #include <bitset>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mpeg4face/face_model.hpp"
@@ -29,12 +30,14 @@ void validateMpegFace(const MpegFace& face);
 struct FatState {
   std::vector<Points3> coord;         // vertex positions, one array per faceSceneGraph mesh
   std::vector<Transform> transforms;  // faceSceneGraph.transforms with the animated fields set
+  std::vector<float> work;            // evaluate()'s working memory: no allocation per frame
 };
 
 // The tables of one MpegFace compiled for one FAPU measurement: built once, then evaluate()
 // turns any number of frames into states without allocating. Displacements are kept as
-// float, already multiplied by the FAP's unit (about 7 significant digits: far below what a
-// FAPU-quantised FAP can show, and half the memory traffic of double).
+// float, already multiplied by the FAP's unit, and summed per frame in float before they are
+// added to the double positions (about 7 significant digits of each motion: far below what
+// a FAPU-quantised FAP can show, at half the memory traffic of double).
 class FatEvaluator {
  public:
   // Validates `face` (validateMpegFace) and throws mpeg4face::Error if a table's FAP needs a
@@ -69,15 +72,20 @@ class FatEvaluator {
   // inner_j), inner_j the border of the interval nearer to 0 (the paper's sums, folded).
   struct Interval {
     int lower = 0, upper = 0;  // borders
-    double inner = 0, sign = 1;
+    float inner = 0, sign = 1;
     std::int64_t baseOffset = -1;  // into Mesh::base, -1: base is zero
   };
   struct Mesh {
     int mesh = -1;
     int zeroIndex = 0;  // index of the 0 border (multi-interval)
     std::vector<Interval> intervals;
-    std::vector<std::uint32_t> vertex;
-    std::vector<float> slope;  // interval-major: interval j at 3 * vertex.size() * j
+    std::vector<std::uint32_t> slot;  // each entry's vertex slot in FatState::work
+    // Entries whose slots follow one another (coordIndex runs like 17 18 19), as (first
+    // slot, length) in entry order, when they are long enough to pay: empty otherwise.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> runs;
+    // Structure of arrays, so that runs vectorise: interval j's x, y, z of every entry at
+    // (3 * j + 0, 1, 2) * slot.size(); base likewise from Interval::baseOffset.
+    std::vector<float> slope;
     std::vector<float> base;
     std::vector<FapBits> coveredBy;  // viseme / expression tables: low-level FAPs per vertex
   };
@@ -93,12 +101,14 @@ class FatEvaluator {
     std::vector<TransformDef> transforms;
   };
 
-  void addMesh(const Mesh& m, double value, Points3& coord, const FapBits* active) const;
+  void addMesh(const Mesh& m, int value, float* work, const FapBits* active) const;
 
   std::vector<Table> tables_;          // sorted by fapID, highLevelSelect
-  std::vector<Points3> neutralCoord_;  // per mesh; rows = 0 for meshes no table deforms
+  std::vector<Points3> neutralCoord_;  // per mesh
   std::vector<Transform> neutralTransforms_;
   std::vector<int> animatedMeshes_;
+  std::vector<std::uint32_t> firstSlot_;  // per animated mesh: its vertex 0 in FatState::work
+  std::size_t slotCount_ = 0;
   std::vector<int> animatedTransforms_;
   FapBits lowLevelWithTables_;
 };
