@@ -34,7 +34,7 @@ struct GeneratorOptions {
   // FAPU. The FAPU is the FAP's own for FAPs in ES, IRISD, ENS, MNS, MW; ES for AU FAPs,
   // visemes and expressions (else the first measured of ENS, MNS, MW, IRISD). Transform
   // changes count when they move a point at the head's size (bounding-box diagonal) by
-  // as much. 0.01 FAPU is about 1e-5 of a head's size: a copy is reproduced within that.
+  // as much. 0.01 FAPU is a few millionths of a head's size: copies are reproduced within it.
   double threshold = 0.01;
   // In model units instead of FAPU, if given.
   std::optional<double> absoluteThreshold;
