@@ -334,6 +334,28 @@ TEST(FatEvaluate, LowLevelFapsPresentInTheFrameOverrideVisemesAndExpressions) {
   expectNear(moved(s, face, 0, 2), {63, 0, 63}, 1e-4);
 }
 
+TEST(FatEvaluate, PriorityIsPerMesh) {
+  MpegFace face = highLevelFace();
+  face.faceSceneGraph.addMeshWithTransform(gridMesh("Teeth", 3));
+  FaceDefTables teeth;  // FAP 5 moves vertex 0 of Teeth, not vertex 0 of Face
+  teeth.fapID = 5;
+  FaceDefMesh m;
+  m.mesh = 1;
+  m.intervalBorders = {0, 100};
+  m.coordIndex = {0};
+  m.displacements = Points3::Constant(1, 3, 0.01);
+  teeth.faceDefMesh.push_back(m);
+  face.faceDefTables.push_back(teeth);
+  const FatEvaluator eval(face, uniformFapu());
+  FapFrame frame;
+  frame.mask.set(0);
+  frame.viseme = {3, 0, 63, false};
+  frame.set(5, 100);
+  const FatState s = eval.evaluate(frame);
+  expectNear(moved(s, face, 0, 0), {63, 0, 0}, 1e-4);
+  expectNear(moved(s, face, 1, 0), {1, 1, 1}, 1e-6);
+}
+
 TEST(FatEvaluate, LowLevelTranslationOverridesTheVisemesTranslation) {
   MpegFace face = highLevelFace();
   FaceDefTransform move;
