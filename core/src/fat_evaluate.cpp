@@ -420,17 +420,18 @@ void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
   }
   for (std::size_t k = 0; k < animatedMeshes_.size(); ++k) {
     const Points3& neutral = neutralCoord_[animatedMeshes_[k]];
-    Points3& out = state.coord[animatedMeshes_[k]];
-    const float* x = work + firstSlot_[k];
-    const float* y = x + slotCount_;
-    const float* z = y + slotCount_;
-    for (Eigen::Index v = 0; v < neutral.rows(); ++v) {
-      out(v, 0) = neutral(v, 0) + x[v];
-      out(v, 1) = neutral(v, 1) + y[v];
-      out(v, 2) = neutral(v, 2) + z[v];
+    const double* p0 = neutral.data();
+    double* p = state.coord[animatedMeshes_[k]].data();
+    float* x = work + firstSlot_[k];
+    float* y = x + slotCount_;
+    float* z = y + slotCount_;
+    for (std::size_t v = 0; v < static_cast<std::size_t>(neutral.rows()); ++v, p += 3, p0 += 3) {
+      p[0] = p0[0] + x[v];
+      p[1] = p0[1] + y[v];
+      p[2] = p0[2] + z[v];
+      x[v] = y[v] = z[v] = 0.0f;  // ready for the next frame
     }
   }
-  std::fill(state.work.begin(), state.work.end(), 0.0f);
 }
 
 }  // namespace mpeg4face

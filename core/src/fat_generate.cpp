@@ -119,14 +119,19 @@ void addMeshes(const FaceModel& neutral, const Group& group, double scale, doubl
   const double threshold2 = threshold * threshold;
   for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
     const Points3& p0 = neutral.meshes[m].coord;
-    std::vector<int> affected;
-    for (Eigen::Index v = 0; v < p0.rows(); ++v) {
-      for (const DeformedCopy* c : group) {
-        if ((c->model.meshes[m].coord.row(v) - p0.row(v)).squaredNorm() > threshold2) {
-          affected.push_back(static_cast<int>(v));
-          break;
-        }
+    const auto rows = static_cast<std::size_t>(p0.rows());
+    std::vector<bool> moved(rows, false);
+    for (const DeformedCopy* c : group) {
+      const double* a = c->model.meshes[m].coord.data();
+      const double* b = p0.data();
+      for (std::size_t v = 0; v < rows; ++v, a += 3, b += 3) {
+        const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+        if (dx * dx + dy * dy + dz * dz > threshold2) moved[v] = true;
       }
+    }
+    std::vector<int> affected;
+    for (std::size_t v = 0; v < rows; ++v) {
+      if (moved[v]) affected.push_back(static_cast<int>(v));
     }
     if (affected.empty()) continue;
     FaceDefMesh& out = table.faceDefMesh.emplace_back();

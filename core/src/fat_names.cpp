@@ -151,17 +151,11 @@ std::optional<ShapeKeyName> parseShapeKeyName(std::string_view name) {
 }
 
 std::string formatShapeKeyName(const ShapeKeyName& key) {
-  std::string out;
-  if (key.fapID == 1) {
-    out = "viseme" + std::to_string(key.highLevelSelect);
-  } else if (key.fapID == 2) {
-    out = "expression" + std::to_string(key.highLevelSelect);
-  } else {
-    out = "fap" + std::to_string(key.fapID);
-  }
-  if (!key.label.empty()) out += "_" + key.label;
+  std::string out = key.fapID == 1 ? "viseme" : key.fapID == 2 ? "expression" : "fap";
+  out += std::to_string(key.fapID <= 2 ? key.highLevelSelect : key.fapID);
+  if (!key.label.empty()) out.append("_").append(key.label);
   if (key.fapID >= 3 || (key.fapID == 2 && key.amplitude != 63)) {
-    out += "@" + std::to_string(key.amplitude);
+    out.append("@").append(std::to_string(key.amplitude));
   }
   return out;
 }
