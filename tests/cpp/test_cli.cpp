@@ -16,34 +16,9 @@ namespace {
 
 const std::string kData = mpeg4face::test::kData.string();
 
-struct CliResult {
-  int status;
-  std::string out;  // stdout and stderr together
-  std::string stdoutOnly;
-};
-
-CliResult run(const std::string& args) {
-  CliResult r{};
-  const std::filesystem::path err = mpeg4face::test::scratchDir() / "stderr.txt";
-  const std::string command = std::string(MPEG4FACE_CLI) + " " + args + " 2>" + err.string();
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed", ""};
-  std::array<char, 4096> buffer{};
-  size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
-    r.stdoutOnly.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  std::ifstream in(err);
-  r.out = r.stdoutOnly + std::string(std::istreambuf_iterator<char>(in), {});
-  return r;
-}
-
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const auto path = mpeg4face::test::scratchDir() / name;
-  std::ofstream(path, std::ios::binary) << text;
-  return path.string();
-}
+using mpeg4face::test::CliResult;
+using mpeg4face::test::runCli;
+using mpeg4face::test::writeScratchFile;
 
 const std::string kCandide = kData + "/candide3/candide3.wfm";
 const std::string kCandideFp = kData + "/candide3/feature_points.csv";
@@ -51,7 +26,7 @@ const std::string kCandideFp = kData + "/candide3/feature_points.csv";
 }  // namespace
 
 TEST(CliInfo, Candide3PrintsAllFiveFapu) {
-  const CliResult r = run("info " + kCandide + " --feature-points " + kCandideFp);
+  const CliResult r = runCli("info " + kCandide + " --feature-points " + kCandideFp);
   ASSERT_EQ(r.status, 0) << r.out;
   for (const char* name : {"ES0", "IRISD0", "ENS0", "MNS0", "MW0"}) {
     const auto line = r.out.find(std::string("  ") + name + " ");
@@ -66,7 +41,7 @@ TEST(CliInfo, Candide3PrintsAllFiveFapu) {
 }
 
 TEST(CliInfo, JsonHasTheDocumentedKeys) {
-  const CliResult r = run("info " + kCandide + " --feature-points " + kCandideFp + " --json");
+  const CliResult r = runCli("info " + kCandide + " --feature-points " + kCandideFp + " --json");
   ASSERT_EQ(r.status, 0) << r.out;
   const auto j = nlohmann::json::parse(r.stdoutOnly);
   for (const char* key : {"meshes", "feature_points", "fapu", "warnings"}) {
@@ -92,7 +67,7 @@ TEST(CliInfo, JsonHasTheDocumentedKeys) {
 }
 
 TEST(CliInfo, WithoutFeaturePointsFapuAreMissingNotInvented) {
-  const CliResult r = run("info " + kCandide + " --json");
+  const CliResult r = runCli("info " + kCandide + " --json");
   ASSERT_EQ(r.status, 0) << r.out;
   const auto j = nlohmann::json::parse(r.stdoutOnly);
   EXPECT_TRUE(j["fapu"]["ES0"].is_null());
@@ -100,64 +75,64 @@ TEST(CliInfo, WithoutFeaturePointsFapuAreMissingNotInvented) {
 }
 
 TEST(CliInfo, MissingFileFailsWithItsName) {
-  const CliResult r = run("info /nonexistent/head.glb");
+  const CliResult r = runCli("info /nonexistent/head.glb");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find("/nonexistent/head.glb"), std::string::npos) << r.out;
 }
 
 TEST(CliInfo, AFolderIsNotAModel) {
-  const CliResult r = run("info " + kData);
+  const CliResult r = runCli("info " + kData);
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find(kData + ": is a folder"), std::string::npos) << r.out;
 }
 
 TEST(CliInfo, UnmeasuredFapuSayWhatTheyNeed) {
-  const CliResult r = run("info " + kCandide);
+  const CliResult r = runCli("info " + kCandide);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("not measured (needs 9.15 and 2.2)"), std::string::npos) << r.out;
 }
 
 TEST(CliInfo, MalformedFilesFailNamingFileAndLine) {
-  const std::string obj = writeTemp("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
-  CliResult r = run("info " + obj);
+  const std::string obj = writeScratchFile("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  CliResult r = runCli("info " + obj);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find(obj + ":4"), std::string::npos) << r.out;
 
-  const std::string csv = writeTemp("bad.csv", "fp,vertex\n2.1,10\n99.9,3\n");
-  r = run("info " + kCandide + " --feature-points " + csv);
+  const std::string csv = writeScratchFile("bad.csv", "fp,vertex\n2.1,10\n99.9,3\n");
+  r = runCli("info " + kCandide + " --feature-points " + csv);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find(csv + ":3"), std::string::npos) << r.out;
 
-  const std::string glb = writeTemp("bad.glb", std::string("glTF\x02\0\0\0", 8));
-  r = run("info " + glb);
+  const std::string glb = writeScratchFile("bad.glb", std::string("glTF\x02\0\0\0", 8));
+  r = runCli("info " + glb);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find(glb), std::string::npos) << r.out;
 
-  const std::string wfm = writeTemp("bad.wfm", "# VERTEX LIST:\n3\n0 0 0\n1 0\n");
-  r = run("info " + wfm);
+  const std::string wfm = writeScratchFile("bad.wfm", "# VERTEX LIST:\n3\n0 0 0\n1 0\n");
+  r = runCli("info " + wfm);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find(wfm + ":4"), std::string::npos) << r.out;
 }
 
 TEST(Cli, UsageErrorsExitWithStatus2) {
-  EXPECT_EQ(run("").status, 2);
-  EXPECT_EQ(run("frobnicate").status, 2);
-  const CliResult r = run("info");
+  EXPECT_EQ(runCli("").status, 2);
+  EXPECT_EQ(runCli("frobnicate").status, 2);
+  const CliResult r = runCli("info");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("usage: mpeg4face info"), std::string::npos) << r.out;
-  EXPECT_EQ(run("info a.glb --bogus").status, 2);
-  EXPECT_EQ(run("info a.glb --feature-points").status, 2);
-  EXPECT_EQ(run("info a.obj b.obj").status, 2);
+  EXPECT_EQ(runCli("info a.glb --bogus").status, 2);
+  EXPECT_EQ(runCli("info a.glb --feature-points").status, 2);
+  EXPECT_EQ(runCli("info a.obj b.obj").status, 2);
 }
 
 TEST(Cli, HelpAndVersion) {
-  CliResult r = run("--help");
+  CliResult r = runCli("--help");
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("info"), std::string::npos);
-  r = run("info --help");
+  r = runCli("info --help");
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("--feature-points"), std::string::npos);
-  r = run("--version");
+  r = runCli("--version");
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("mpeg4face "), std::string::npos);
 }

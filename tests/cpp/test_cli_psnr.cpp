@@ -16,34 +16,9 @@ namespace {
 
 const std::string kXface = (mpeg4face::test::kData / "xface-fap").string();
 
-struct CliResult {
-  int status;
-  std::string out;  // stdout and stderr together
-  std::string stdoutOnly;
-};
-
-CliResult run(const std::string& args) {
-  CliResult r{};
-  const std::filesystem::path err = mpeg4face::test::scratchDir() / "stderr.txt";
-  const std::string command = std::string(MPEG4FACE_CLI) + " " + args + " 2>" + err.string();
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed", ""};
-  std::array<char, 4096> buffer{};
-  size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
-    r.stdoutOnly.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  std::ifstream in(err);
-  r.out = r.stdoutOnly + std::string(std::istreambuf_iterator<char>(in), {});
-  return r;
-}
-
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const auto path = mpeg4face::test::scratchDir() / name;
-  std::ofstream(path, std::ios::binary) << text;
-  return path.string();
-}
+using mpeg4face::test::CliResult;
+using mpeg4face::test::runCli;
+using mpeg4face::test::writeScratchFile;
 
 // Four frames sending FAPs 3 and 4 with the given values.
 std::string stream(const std::array<int, 4>& fap3, const std::array<int, 4>& fap4, int rate = 25) {
@@ -64,9 +39,9 @@ const std::string kDecoded = stream({0, 10, 20, 33}, {10, 90, 10, 90});
 }  // namespace
 
 TEST(CliPsnr, PrintsPsnrAndPerFapErrors) {
-  const std::string a = writeTemp("a.fap", kOriginal);
-  const std::string b = writeTemp("b.fap", kDecoded);
-  const CliResult r = run("psnr " + a + " " + b);
+  const std::string a = writeScratchFile("a.fap", kOriginal);
+  const std::string b = writeScratchFile("b.fap", kDecoded);
+  const CliResult r = runCli("psnr " + a + " " + b);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("PSNR 23.98 dB over 2 FAPs"), std::string::npos) << r.out;
   // FAP 3: 4 frames, range 30, max error 3, RMS 1.5, 10 log10(400) = 26.02 dB.
@@ -77,9 +52,9 @@ TEST(CliPsnr, PrintsPsnrAndPerFapErrors) {
 }
 
 TEST(CliPsnr, Json) {
-  const std::string a = writeTemp("a.fap", kOriginal);
-  const std::string b = writeTemp("b.fap", kDecoded);
-  CliResult r = run("psnr --json " + a + " " + b);
+  const std::string a = writeScratchFile("a.fap", kOriginal);
+  const std::string b = writeScratchFile("b.fap", kDecoded);
+  CliResult r = runCli("psnr --json " + a + " " + b);
   ASSERT_EQ(r.status, 0) << r.out;
   auto j = nlohmann::json::parse(r.stdoutOnly);
   EXPECT_NEAR(j["psnr_db"].get<double>(), 23.9794, 1e-4);
@@ -92,7 +67,7 @@ TEST(CliPsnr, Json) {
   EXPECT_DOUBLE_EQ(j["faps"][0]["rms_error"].get<double>(), 1.5);
   EXPECT_EQ(j["faps"][1]["range"], 100);
 
-  r = run("psnr " + kXface + "/anger.fap " + kXface + "/anger.fap --json");
+  r = runCli("psnr " + kXface + "/anger.fap " + kXface + "/anger.fap --json");
   ASSERT_EQ(r.status, 0) << r.out;
   j = nlohmann::json::parse(r.stdoutOnly);
   EXPECT_EQ(j["psnr_db"], "inf");
@@ -104,43 +79,43 @@ TEST(CliPsnr, SaysWhenPsnrIsUndefined) {
   // One frame: no FAP has a range.
   std::string mask = "0 0 1";
   for (int i = 3; i < 68; ++i) mask += " 0";
-  const std::string one = writeTemp("one.fap", "2.1 x 25 1\n" + mask + "\n0 5\n");
-  const CliResult r = run("psnr " + one + " " + one);
+  const std::string one = writeScratchFile("one.fap", "2.1 x 25 1\n" + mask + "\n0 5\n");
+  const CliResult r = runCli("psnr " + one + " " + one);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("PSNR undefined"), std::string::npos) << r.out;
-  EXPECT_EQ(nlohmann::json::parse(run("psnr --json " + one + " " + one).stdoutOnly)["psnr_db"],
+  EXPECT_EQ(nlohmann::json::parse(runCli("psnr --json " + one + " " + one).stdoutOnly)["psnr_db"],
             nullptr);
 }
 
 TEST(CliPsnr, BadFilesFailNamingFileAndLine) {
-  const std::string a = writeTemp("a.fap", kOriginal);
-  const std::string bad = writeTemp("bad.fap", "2.1 x 25 1\n0 0 1 x\n");
-  CliResult r = run("psnr " + a + " " + bad);
+  const std::string a = writeScratchFile("a.fap", kOriginal);
+  const std::string bad = writeScratchFile("bad.fap", "2.1 x 25 1\n0 0 1 x\n");
+  CliResult r = runCli("psnr " + a + " " + bad);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find(bad + ":2: mask:"), std::string::npos) << r.out;
 
-  r = run("psnr /nonexistent/a.fap " + a);
+  r = runCli("psnr /nonexistent/a.fap " + a);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("/nonexistent/a.fap"), std::string::npos) << r.out;
 
-  const std::string other = writeTemp("30hz.fap", stream({0, 1, 2, 3}, {0, 1, 2, 3}, 30));
-  r = run("psnr " + a + " " + other);
+  const std::string other = writeScratchFile("30hz.fap", stream({0, 1, 2, 3}, {0, 1, 2, 3}, 30));
+  r = runCli("psnr " + a + " " + other);
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find(other + ": frame rate:"), std::string::npos) << r.out;
 
-  r = run("psnr " + kXface + "/anger.fap " + kXface + "/test.fap");
+  r = runCli("psnr " + kXface + "/anger.fap " + kXface + "/test.fap");
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_NE(r.out.find("the original has 108 frames, the decoded stream 43"), std::string::npos)
       << r.out;
 }
 
 TEST(CliPsnr, UsageErrorsExitWithStatus2) {
-  CliResult r = run("psnr");
+  CliResult r = runCli("psnr");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.out.find("usage: mpeg4face psnr"), std::string::npos) << r.out;
-  EXPECT_EQ(run("psnr a.fap").status, 2);
-  EXPECT_EQ(run("psnr a.fap b.fap c.fap").status, 2);
-  EXPECT_EQ(run("psnr a.fap b.fap --bogus").status, 2);
-  r = run("--help");
+  EXPECT_EQ(runCli("psnr a.fap").status, 2);
+  EXPECT_EQ(runCli("psnr a.fap b.fap c.fap").status, 2);
+  EXPECT_EQ(runCli("psnr a.fap b.fap --bogus").status, 2);
+  r = runCli("--help");
   EXPECT_NE(r.out.find("psnr"), std::string::npos) << r.out;
 }

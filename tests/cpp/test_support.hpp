@@ -66,4 +66,11 @@ inline CliResult runCli(const std::string& args) {
   return r;
 }
 
+// Writes `text` to a file of that name in the running test's scratch folder; returns its path.
+inline std::string writeScratchFile(const std::string& name, const std::string& text) {
+  const auto path = scratchDir() / name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
 }  // namespace mpeg4face::test
