@@ -11,6 +11,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/fap_rd.hpp"
 #include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/file_io.hpp"
 
@@ -73,17 +74,6 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
   return out;
 }
 
-// The reconstruction on the input's frames and rate, for compareFapStreams: without the empty
-// frame 0 the bitstream needs when the input starts later, and with the input's exact rate
-// (the bitstream codes it in 1/16 Hz, times 1000/1001).
-FapStream comparable(const FapStream& input, FapStream reconstruction) {
-  if (reconstruction.frames.size() == input.frames.size() + 1) {
-    reconstruction.frames.erase(reconstruction.frames.begin());
-  }
-  reconstruction.frameRate = input.frameRate;
-  return reconstruction;
-}
-
 std::string decibels(const std::optional<double>& db) {
   if (!db) return "undefined (no FAP varies)";
   if (std::isinf(*db)) return "inf dB";
@@ -105,7 +95,8 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   }
   writeFileAtomically(args.output, std::string(enc.bytes.begin(), enc.bytes.end()));
 
-  const FapComparison quality = compareFapStreams(input, comparable(input, enc.reconstruction));
+  const FapComparison quality =
+      compareFapStreams(input, comparableReconstruction(input, enc.reconstruction));
   bool lossless = quality.visemeMismatches == 0 && quality.expressionMismatches == 0;
   for (const FapError& e : quality.faps) lossless &= e.maxAbs == 0;
   const auto bits = static_cast<double>(enc.stats.bits);

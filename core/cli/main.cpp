@@ -38,6 +38,13 @@ constexpr std::array kCommands{
             mpeg4face::cli::runEncode},
     Command{"decode", "decode an MPEG-4 FBA bitstream to a .fap stream",
             "mpeg4face decode IN.fba -o OUT.fap\n", mpeg4face::cli::runDecode},
+    Command{"rd", "rate-distortion of a .fap stream: every mode and fap_quant, CSV and plot",
+            "mpeg4face rd IN.fap --csv OUT.csv [--plot OUT.png]\n"
+            "  --csv F   one row per encoding: mode, fap_quant, bits, bits_per_sample,\n"
+            "            bits_per_second, psnr_db (inf when a FAP is exact; empty if undefined)\n"
+            "  --plot F  PSNR against bit rate, one curve per mode (scripts/rd_plot.py, needs\n"
+            "            python3-matplotlib; MPEG4FACE_RD_PLOT overrides the script's path)\n",
+            mpeg4face::cli::runRd},
 };
 
 void printHelp(std::FILE* out) {
