@@ -22,6 +22,9 @@ struct EncodeArgs {
   std::string input;
   std::string output;
   FbaEncodeOptions options;
+  // --mode auto: the fewest-bit mode and fap_quant that reaches psnrTarget (fap_rd.hpp).
+  bool autoMode = false;
+  std::optional<double> psnrTarget;
   bool json = false;
 };
 
@@ -53,8 +56,25 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
     } else if (a == "--mode") {
       if (i + 1 >= args.size()) throw UsageError("--mode needs a mode");
       const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
-      if (!mode) throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct)");
-      out.options.mode = *mode;
+      out.autoMode = args[i] == "auto";
+      if (!mode && !out.autoMode) {
+        throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct, auto)");
+      }
+      if (mode) out.options.mode = *mode;
+    } else if (a == "--psnr") {
+      if (i + 1 >= args.size()) throw UsageError("--psnr needs a target in dB");
+      const std::string& text = args[++i];
+      size_t used = 0;
+      double db = 0;
+      try {
+        db = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || !std::isfinite(db)) {
+        throw UsageError("--psnr takes a number of dB, not '" + text + "'");
+      }
+      out.psnrTarget = db;
     } else if (a == "--fap-quant") {
       out.options.fapQuant = intArgument(args, i, 0, 31);
     } else if (a == "--intra-period") {
@@ -71,6 +91,9 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
   }
   if (out.input.empty()) throw UsageError("no input .fap file given");
   if (out.output.empty()) throw UsageError("no output given (-o OUT.fba)");
+  if (out.autoMode != out.psnrTarget.has_value()) {
+    throw UsageError("--mode auto and --psnr DB go together");
+  }
   return out;
 }
 
@@ -85,10 +108,20 @@ std::string decibels(const std::optional<double>& db) {
 }  // namespace
 
 int runEncode(const std::vector<std::string>& rawArgs) {
-  const EncodeArgs args = parseArgs(rawArgs);
+  EncodeArgs args = parseArgs(rawArgs);
   const FapStream input = readFapFile(args.input);
   FbaEncoding enc;
   try {
+    if (args.autoMode) {
+      const std::optional<RdPoint> best =
+          cheapestEncoding(input, *args.psnrTarget, allCodingModes(), args.options);
+      if (!best) {
+        throw Error({}, 0, "PSNR target",
+                    "no mode and fap_quant reaches " + decibels(args.psnrTarget));
+      }
+      args.options.mode = best->mode;
+      args.options.fapQuant = best->fapQuant;
+    }
     enc = encodeFba(input, args.options);
   } catch (const Error& e) {
     throw Error(args.input, 0, e.field(), e.reason());
@@ -107,6 +140,7 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     j["input"] = args.input;
     j["output"] = args.output;
     j["mode"] = codingModeName(args.options.mode);
+    if (args.autoMode) j["psnr_target_db"] = *args.psnrTarget;
     j["fap_quant"] = args.options.fapQuant;
     j["intra_period"] = args.options.intraPeriod;
     j["frames"] = input.frames.size();
@@ -131,6 +165,10 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   std::printf("%s: %s, fap_quant %d, intra frames: %d\n", args.output.c_str(),
               std::string(codingModeName(args.options.mode)).c_str(), args.options.fapQuant,
               enc.stats.intraFrames);
+  if (args.autoMode) {
+    std::printf("auto: the fewest bits of every mode and fap_quant reaching %s\n",
+                decibels(args.psnrTarget).c_str());
+  }
   std::printf("bits %llu (%zu bytes), %.1f bits/s\n",
               static_cast<unsigned long long>(enc.stats.bits), enc.bytes.size(), rate);
   std::printf("PSNR %s over %d FAPs (Tao et al. 1999, eq. 8)%s\n", decibels(quality.psnr).c_str(),

@@ -29,7 +29,10 @@ constexpr std::array kCommands{
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
             "mpeg4face encode IN.fap -o OUT.fba [--mode predictive] [--fap-quant Q]\n"
             "                 [--intra-period N] [--json]\n"
+            "                 | --mode auto --psnr DB\n"
             "  --mode M          predictive (quantised differences, arithmetic coded)\n"
+            "                    auto: the mode and fap_quant with the fewest bits whose PSNR\n"
+            "                    reaches --psnr DB (every mode and fap_quant tried)\n"
             "  --fap-quant Q     0..31 (default 1): each FAP's step is its QP times Q; 0 is\n"
             "                    lossless for |value| <= 1860\n"
             "  --intra-period N  an intra frame at least every N frames (default 0: only the\n"

@@ -7,11 +7,15 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "mpeg4face/fap_file.hpp"
+#include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/fba_codec.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -117,6 +121,102 @@ TEST(CliRd, PlotOrAClearErrorWithoutMatplotlib) {
   const auto missing = runCli("rd " + kJoy + " --csv " + csv.string() + " --plot " + png.string());
   ::unsetenv("MPEG4FACE_RD_PLOT");
   EXPECT_EQ(missing.status, 1) << missing.out;
+}
+
+// The fewest bits over every mode and fap_quant whose PSNR reaches `target`, searched here
+// directly with encodeFba and compareFapStreams (not through fap_rd.hpp).
+struct Best {
+  double bits = 0;
+  std::string mode;
+  int fapQuant = -1;
+};
+std::optional<Best> exhaustiveSearch(const mpeg4face::FapStream& stream, double target,
+                                     const std::vector<mpeg4face::FapCodingMode>& modes) {
+  std::optional<Best> best;
+  for (const auto mode : modes) {
+    for (int q = mode == mpeg4face::FapCodingMode::Dct ? 1 : 0; q <= 31; ++q) {
+      mpeg4face::FbaEncodeOptions options;
+      options.mode = mode;
+      options.fapQuant = q;
+      const auto enc = mpeg4face::encodeFba(stream, options);
+      auto decoded = mpeg4face::decodeFba(enc.bytes);
+      decoded.frameRate = stream.frameRate;
+      if (decoded.frames.size() == stream.frames.size() + 1) {
+        decoded.frames.erase(decoded.frames.begin());
+      }
+      const auto psnr = mpeg4face::compareFapStreams(stream, decoded).psnr;
+      const double bits = 8.0 * static_cast<double>(enc.bytes.size());
+      if (psnr && *psnr >= target && (!best || bits < best->bits)) {
+        best = Best{bits, std::string(mpeg4face::codingModeName(mode)), q};
+      }
+    }
+  }
+  return best;
+}
+
+TEST(CliRd, AutoModeIsNeverWorseThanTheBestSingleModeAtTheTarget) {
+  using mpeg4face::FapCodingMode;
+  for (const std::string name : {"joy", "anger", "test"}) {
+    const auto fap = mpeg4face::test::kData / "xface-fap" / (name + ".fap");
+    const mpeg4face::FapStream stream = mpeg4face::readFapFile(fap);
+    for (const double target : {25.0, 30.0, 35.0, 45.0}) {
+      const auto fba = scratchDir() / (name + ".fba");
+      std::ostringstream cmd;
+      cmd << "encode " << fap.string() << " -o " << fba.string() << " --mode auto --psnr " << target
+          << " --json";
+      const auto r = runCli(cmd.str());
+      ASSERT_EQ(r.status, 0) << r.out;
+      const auto j = nlohmann::json::parse(r.stdoutOnly);
+      const auto bits = j["bits"].get<double>();
+      EXPECT_EQ(bits, 8.0 * static_cast<double>(std::filesystem::file_size(fba)));
+      EXPECT_EQ(j["psnr_target_db"].get<double>(), target);
+      // What was written reaches the target...
+      if (j["psnr_db"].is_number())
+        EXPECT_GE(j["psnr_db"].get<double>(), target);
+      else
+        EXPECT_EQ(j["psnr_db"], "inf");
+      // ...and costs no more than the best of each single mode, or of both together.
+      const auto both =
+          exhaustiveSearch(stream, target, {FapCodingMode::Predictive, FapCodingMode::Dct});
+      ASSERT_TRUE(both) << name << " " << target;
+      EXPECT_EQ(bits, both->bits) << name << " " << target;
+      for (const auto mode : {FapCodingMode::Predictive, FapCodingMode::Dct}) {
+        const auto single = exhaustiveSearch(stream, target, {mode});
+        if (single) {
+          EXPECT_LE(bits, single->bits) << name << " " << target;
+        }
+      }
+    }
+  }
+}
+
+TEST(CliRd, AutoModeArguments) {
+  const std::string fba = (scratchDir() / "x.fba").string();
+  auto r = runCli("encode " + kJoy + " -o " + fba + " --mode auto");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("--mode auto and --psnr DB go together"), std::string::npos) << r.out;
+  r = runCli("encode " + kJoy + " -o " + fba + " --psnr 30");
+  EXPECT_EQ(r.status, 2) << r.out;
+  r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 30dB");
+  EXPECT_EQ(r.status, 2) << r.out;
+  // Lossless coding (+inf) reaches any finite target.
+  r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 1000 --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(r.stdoutOnly)["psnr_db"], "inf");
+  // A stream no encoding reproduces exactly: FAP 3 jumps by 99991 (prime), beyond what
+  // fap_quant 0 can code and no multiple of any coarser step.
+  mpeg4face::FapStream jumps;
+  for (int n = 0; n < 8; ++n) {
+    mpeg4face::FapFrame f;
+    f.number = n;
+    f.set(3, n % 2 == 0 ? 0 : 99991);
+    jumps.frames.push_back(f);
+  }
+  const auto fap = scratchDir() / "jumps.fap";
+  mpeg4face::writeFapFile(fap, jumps);
+  r = runCli("encode " + fap.string() + " -o " + fba + " --mode auto --psnr 1000");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("no mode and fap_quant reaches 1000.00 dB"), std::string::npos) << r.out;
 }
 
 TEST(CliRd, BadArguments) {
