@@ -25,6 +25,7 @@ struct EncodeArgs {
   // --mode auto: the fewest-bit mode and fap_quant that reaches psnrTarget (fap_rd.hpp).
   bool autoMode = false;
   std::optional<double> psnrTarget;
+  bool fapQuantGiven = false;
   bool json = false;
 };
 
@@ -77,6 +78,7 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       out.psnrTarget = db;
     } else if (a == "--fap-quant") {
       out.options.fapQuant = intArgument(args, i, 0, 31);
+      out.fapQuantGiven = true;
     } else if (a == "--intra-period") {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
     } else if (a == "--json") {
@@ -93,6 +95,9 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
   if (out.output.empty()) throw UsageError("no output given (-o OUT.fba)");
   if (out.autoMode != out.psnrTarget.has_value()) {
     throw UsageError("--mode auto and --psnr DB go together");
+  }
+  if (out.autoMode && out.fapQuantGiven) {
+    throw UsageError("--mode auto chooses fap_quant itself; drop --fap-quant");
   }
   return out;
 }

@@ -199,6 +199,9 @@ TEST(CliRd, AutoModeArguments) {
   EXPECT_EQ(r.status, 2) << r.out;
   r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 30dB");
   EXPECT_EQ(r.status, 2) << r.out;
+  r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 30 --fap-quant 4");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("drop --fap-quant"), std::string::npos) << r.out;
   // Lossless coding (+inf) reaches any finite target.
   r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 1000 --json");
   ASSERT_EQ(r.status, 0) << r.out;
