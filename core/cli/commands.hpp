@@ -25,5 +25,6 @@ int runInfo(const std::vector<std::string>& args);
 int runPsnr(const std::vector<std::string>& args);
 int runEncode(const std::vector<std::string>& args);
 int runDecode(const std::vector<std::string>& args);
+int runRd(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli

@@ -11,6 +11,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/fap_rd.hpp"
 #include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/file_io.hpp"
 
@@ -21,6 +22,10 @@ struct EncodeArgs {
   std::string input;
   std::string output;
   FbaEncodeOptions options;
+  // --mode auto: the fewest-bit mode and fap_quant that reaches psnrTarget (fap_rd.hpp).
+  bool autoMode = false;
+  std::optional<double> psnrTarget;
+  bool fapQuantGiven = false;
   bool json = false;
 };
 
@@ -52,10 +57,28 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
     } else if (a == "--mode") {
       if (i + 1 >= args.size()) throw UsageError("--mode needs a mode");
       const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
-      if (!mode) throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct)");
-      out.options.mode = *mode;
+      out.autoMode = args[i] == "auto";
+      if (!mode && !out.autoMode) {
+        throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct, auto)");
+      }
+      if (mode) out.options.mode = *mode;
+    } else if (a == "--psnr") {
+      if (i + 1 >= args.size()) throw UsageError("--psnr needs a target in dB");
+      const std::string& text = args[++i];
+      size_t used = 0;
+      double db = 0;
+      try {
+        db = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || !std::isfinite(db)) {
+        throw UsageError("--psnr takes a number of dB, not '" + text + "'");
+      }
+      out.psnrTarget = db;
     } else if (a == "--fap-quant") {
       out.options.fapQuant = intArgument(args, i, 0, 31);
+      out.fapQuantGiven = true;
     } else if (a == "--intra-period") {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
     } else if (a == "--json") {
@@ -70,18 +93,13 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
   }
   if (out.input.empty()) throw UsageError("no input .fap file given");
   if (out.output.empty()) throw UsageError("no output given (-o OUT.fba)");
-  return out;
-}
-
-// The reconstruction on the input's frames and rate, for compareFapStreams: without the empty
-// frame 0 the bitstream needs when the input starts later, and with the input's exact rate
-// (the bitstream codes it in 1/16 Hz, times 1000/1001).
-FapStream comparable(const FapStream& input, FapStream reconstruction) {
-  if (reconstruction.frames.size() == input.frames.size() + 1) {
-    reconstruction.frames.erase(reconstruction.frames.begin());
+  if (out.autoMode != out.psnrTarget.has_value()) {
+    throw UsageError("--mode auto and --psnr DB go together");
   }
-  reconstruction.frameRate = input.frameRate;
-  return reconstruction;
+  if (out.autoMode && out.fapQuantGiven) {
+    throw UsageError("--mode auto chooses fap_quant itself; drop --fap-quant");
+  }
+  return out;
 }
 
 std::string decibels(const std::optional<double>& db) {
@@ -95,17 +113,28 @@ std::string decibels(const std::optional<double>& db) {
 }  // namespace
 
 int runEncode(const std::vector<std::string>& rawArgs) {
-  const EncodeArgs args = parseArgs(rawArgs);
+  EncodeArgs args = parseArgs(rawArgs);
   const FapStream input = readFapFile(args.input);
   FbaEncoding enc;
   try {
+    if (args.autoMode) {
+      const std::optional<RdPoint> best =
+          cheapestEncoding(input, *args.psnrTarget, allCodingModes(), args.options);
+      if (!best) {
+        throw Error({}, 0, "PSNR target",
+                    "no mode and fap_quant reaches " + decibels(args.psnrTarget));
+      }
+      args.options.mode = best->mode;
+      args.options.fapQuant = best->fapQuant;
+    }
     enc = encodeFba(input, args.options);
   } catch (const Error& e) {
     throw Error(args.input, 0, e.field(), e.reason());
   }
   writeFileAtomically(args.output, std::string(enc.bytes.begin(), enc.bytes.end()));
 
-  const FapComparison quality = compareFapStreams(input, comparable(input, enc.reconstruction));
+  const FapComparison quality =
+      compareFapStreams(input, comparableReconstruction(input, enc.reconstruction));
   bool lossless = quality.visemeMismatches == 0 && quality.expressionMismatches == 0;
   for (const FapError& e : quality.faps) lossless &= e.maxAbs == 0;
   const auto bits = static_cast<double>(enc.stats.bits);
@@ -116,6 +145,7 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     j["input"] = args.input;
     j["output"] = args.output;
     j["mode"] = codingModeName(args.options.mode);
+    if (args.autoMode) j["psnr_target_db"] = *args.psnrTarget;
     j["fap_quant"] = args.options.fapQuant;
     j["intra_period"] = args.options.intraPeriod;
     j["frames"] = input.frames.size();
@@ -140,6 +170,10 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   std::printf("%s: %s, fap_quant %d, intra frames: %d\n", args.output.c_str(),
               std::string(codingModeName(args.options.mode)).c_str(), args.options.fapQuant,
               enc.stats.intraFrames);
+  if (args.autoMode) {
+    std::printf("auto: the fewest bits of every mode and fap_quant reaching %s\n",
+                decibels(args.psnrTarget).c_str());
+  }
   std::printf("bits %llu (%zu bytes), %.1f bits/s\n",
               static_cast<unsigned long long>(enc.stats.bits), enc.bytes.size(), rate);
   std::printf("PSNR %s over %d FAPs (Tao et al. 1999, eq. 8)%s\n", decibels(quality.psnr).c_str(),

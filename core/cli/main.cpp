@@ -29,7 +29,10 @@ constexpr std::array kCommands{
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
             "mpeg4face encode IN.fap -o OUT.fba [--mode predictive] [--fap-quant Q]\n"
             "                 [--intra-period N] [--json]\n"
+            "                 | --mode auto --psnr DB\n"
             "  --mode M          predictive (quantised differences, arithmetic coded)\n"
+            "                    auto: the mode and fap_quant with the fewest bits whose PSNR\n"
+            "                    reaches --psnr DB (every mode and fap_quant tried)\n"
             "  --fap-quant Q     0..31 (default 1): each FAP's step is its QP times Q; 0 is\n"
             "                    lossless for |value| <= 1860\n"
             "  --intra-period N  an intra frame at least every N frames (default 0: only the\n"
@@ -38,6 +41,13 @@ constexpr std::array kCommands{
             mpeg4face::cli::runEncode},
     Command{"decode", "decode an MPEG-4 FBA bitstream to a .fap stream",
             "mpeg4face decode IN.fba -o OUT.fap\n", mpeg4face::cli::runDecode},
+    Command{"rd", "rate-distortion of a .fap stream: every mode and fap_quant, CSV and plot",
+            "mpeg4face rd IN.fap --csv OUT.csv [--plot OUT.png]\n"
+            "  --csv F   one row per encoding: mode, fap_quant, bits, bits_per_sample,\n"
+            "            bits_per_second, psnr_db (inf when a FAP is exact; empty if undefined)\n"
+            "  --plot F  PSNR against bit rate, one curve per mode (scripts/rd_plot.py, needs\n"
+            "            python3-matplotlib; MPEG4FACE_RD_PLOT overrides the script's path)\n",
+            mpeg4face::cli::runRd},
 };
 
 void printHelp(std::FILE* out) {

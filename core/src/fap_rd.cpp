@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "mpeg4face/fap_rd.hpp"
+
+#include <array>
+
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/fap_measure.hpp"
+
+namespace mpeg4face {
+
+std::size_t fapSampleCount(const FapStream& stream) {
+  std::size_t samples = 0;
+  for (const FapFrame& frame : stream.frames) {
+    for (int fap = 3; fap <= kFapCount; ++fap) samples += frame.has(fap) ? 1 : 0;
+  }
+  return samples;
+}
+
+FapStream comparableReconstruction(const FapStream& input, FapStream reconstruction) {
+  if (reconstruction.frames.size() == input.frames.size() + 1) {
+    reconstruction.frames.erase(reconstruction.frames.begin());
+  }
+  reconstruction.frameRate = input.frameRate;
+  return reconstruction;
+}
+
+std::vector<int> fapQuantRange(FapCodingMode mode) {
+  std::vector<int> range;
+  for (int q = mode == FapCodingMode::Dct ? 1 : 0; q <= 31; ++q) range.push_back(q);
+  return range;
+}
+
+RdPoint measureEncoding(const FapStream& stream, const FbaEncodeOptions& options) {
+  const std::size_t samples = fapSampleCount(stream);
+  if (samples == 0) throw Error({}, 0, "FAP mask", "the stream sends no low-level FAP");
+  const FbaEncoding enc = encodeFba(stream, options);
+  RdPoint p;
+  p.mode = options.mode;
+  p.fapQuant = options.fapQuant;
+  p.bits = enc.stats.bits;
+  const auto bits = static_cast<double>(enc.stats.bits);
+  p.bitsPerSample = bits / static_cast<double>(samples);
+  p.bitsPerSecond = bitsPerSecond(bits, stream);
+  p.psnr = compareFapStreams(stream, comparableReconstruction(stream, enc.reconstruction)).psnr;
+  return p;
+}
+
+std::vector<RdPoint> sweepRateDistortion(const FapStream& stream,
+                                         std::span<const FapCodingMode> modes,
+                                         const FbaEncodeOptions& base) {
+  std::vector<RdPoint> points;
+  for (const FapCodingMode mode : modes) {
+    FbaEncodeOptions options = base;
+    options.mode = mode;
+    for (const int q : fapQuantRange(mode)) {
+      options.fapQuant = q;
+      points.push_back(measureEncoding(stream, options));
+    }
+  }
+  return points;
+}
+
+bool meetsPsnr(const RdPoint& point, double targetDb) {
+  return point.psnr && *point.psnr >= targetDb;
+}
+
+std::optional<RdPoint> cheapestMeeting(std::span<const RdPoint> points, double targetDb) {
+  std::optional<RdPoint> best;
+  for (const RdPoint& p : points) {
+    if (meetsPsnr(p, targetDb) && (!best || p.bits < best->bits)) best = p;
+  }
+  return best;
+}
+
+std::optional<RdPoint> cheapestEncoding(const FapStream& stream, double targetDb,
+                                        std::span<const FapCodingMode> modes,
+                                        const FbaEncodeOptions& base) {
+  const std::vector<RdPoint> points = sweepRateDistortion(stream, modes, base);
+  return cheapestMeeting(points, targetDb);
+}
+
+std::span<const FapCodingMode> allCodingModes() {
+  static constexpr std::array kModes{FapCodingMode::Predictive, FapCodingMode::Dct};
+  return kModes;
+}
+
+}  // namespace mpeg4face
