@@ -63,7 +63,7 @@ void intervalWeights(std::span<const int> intervalBorders, double value,
     for (size_t j = k; j < n; ++j) {
       const double part = value - I[j];
       if (part <= 0) break;
-      weights[j] = j + 1 == n ? part : std::min(part, double(I[j + 1] - I[j]));
+      weights[j] = j + 1 == n ? part : std::min(part, double(I[j + 1]) - I[j]);
     }
   } else {
     if (k == 0) {  // no negative interval: the first one continues through 0
@@ -73,7 +73,7 @@ void intervalWeights(std::span<const int> intervalBorders, double value,
     for (size_t j = k; j-- > 0;) {
       const double part = I[j + 1] - value;
       if (part <= 0) break;
-      weights[j] = j == 0 ? part : std::min(part, double(I[j + 1] - I[j]));
+      weights[j] = j == 0 ? part : std::min(part, double(I[j + 1]) - I[j]);
     }
   }
 }
