@@ -24,11 +24,8 @@ namespace mpeg4face {
 // fatMorphModel appends "#2", "#3", ... to a name its mesh already has.
 std::string fatTargetName(int fapID, int highLevelSelect, int lower, int upper);
 
-// Throws mpeg4face::Error (field e.g. "faceDefTables[2].faceDefMesh[0].coordIndex") unless
-// the face's scene graph is valid and every table is: fapID 1..68, highLevelSelect 0..14
-// (FAP 1) or 0..6 (FAP 2), nodes that exist, valid interval borders, coordIndex entries in
-// range and distinct, one displacement per (entry, interval), finite numbers, a non-zero
-// rotation axis, and a FAPU the face measures for every FAP with a table.
+// validateMpegFace (fat_evaluate.hpp), and throws mpeg4face::Error (field
+// "faceDefTables[2].fapID") unless the face measures the FAPU of every FAP with a table.
 void checkMpegFace(const MpegFace& face, const FapuMeasurement& fapu);
 
 // The neutral scene graph with one morph target per FaceDefMesh interval appended to the
