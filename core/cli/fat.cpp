@@ -105,17 +105,6 @@ MpegFace readFace(const std::string& path) {
   return readVrml(path);
 }
 
-// The resolved state after a frame as the frame the evaluator takes: every active FAP set.
-FapFrame resolvedFrame(const FapState& state) {
-  FapFrame f;
-  f.number = state.number;
-  f.mask = state.active;
-  f.values = state.values;
-  f.viseme = state.viseme;
-  f.expression = state.expression;
-  return f;
-}
-
 }  // namespace
 
 int runFat(const std::vector<std::string>& rawArgs) {

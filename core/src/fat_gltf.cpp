@@ -20,7 +20,6 @@ namespace {
 
 constexpr int kVisemeCount = 15;
 constexpr int kExpressionCount = 7;
-constexpr int kHighLevelMax = 63;  // viseme_blend and expression intensities are 0..63
 
 std::string str(size_t n) { return std::to_string(n); }
 
@@ -47,46 +46,6 @@ std::vector<std::vector<int>> firstTargets(const MpegFace& face) {
   }
   return first;
 }
-
-// The FAP state a decoder holds after some frames, by the simple hold rule of bakeFapStream.
-struct HeldState {
-  std::array<int, kFapCount> values{};
-  Viseme viseme;
-  Expression expression;
-  bool visemeSent = false;
-  bool expressionSent = false;
-
-  void update(const FapFrame& frame) {
-    for (int fap = 3; fap <= kFapCount; ++fap) {
-      if (frame.has(fap)) values[fap - 1] = frame.value(fap);
-    }
-    if (frame.has(1)) {
-      viseme = frame.viseme;
-      visemeSent = true;
-    }
-    if (frame.has(2)) {
-      expression = frame.expression;
-      expressionSent = true;
-    }
-  }
-
-  // What drives a table: its FAP's value, or for FAP 1 / 2 the amount of its viseme /
-  // expression (fat.hpp).
-  double input(const FaceDefTables& table) const {
-    const int select = table.highLevelSelect;
-    if (table.fapID == 1) {
-      if (!visemeSent) return 0;
-      return (viseme.select1 == select ? viseme.blend : 0) +
-             (viseme.select2 == select ? kHighLevelMax - viseme.blend : 0);
-    }
-    if (table.fapID == 2) {
-      if (!expressionSent) return 0;
-      return (expression.select1 == select ? expression.intensity1 : 0) +
-             (expression.select2 == select ? expression.intensity2 : 0);
-    }
-    return values[table.fapID - 1];
-  }
-};
 
 tinygltf::Value numbers(std::initializer_list<double> values) {
   tinygltf::Value::Array out;
@@ -498,14 +457,26 @@ MorphWeightAnimation bakeFapStream(const MpegFace& face, const FapuMeasurement& 
     }
   }
 
-  HeldState state;
+  // What a decoder holds after each frame: values held, unsent left/right partners mirrored.
+  const std::vector<FapState> states = resolveFapStream(stream);
   std::vector<double> inputs(face.faceDefTables.size());
   std::vector<double> weights;
   std::vector<double> interval;
+  double previous = -1;
   for (size_t f = 0; f < stream.frames.size(); ++f) {
-    state.update(stream.frames[f]);
-    const double time = static_cast<double>(f) / stream.frameRate;
-    for (size_t t = 0; t < inputs.size(); ++t) inputs[t] = state.input(face.faceDefTables[t]);
+    const FapFrame frame = resolvedFrame(states[f]);
+    const double time = frameTime(stream, stream.frames[f]);
+    if (!(time > previous)) {
+      fail("frames[" + str(f) + "].number", "FAP stream '" + stream.name + "': frame number " +
+                                                std::to_string(stream.frames[f].number) +
+                                                " is not after the previous one (or negative)");
+    }
+    previous = time;
+    for (size_t t = 0; t < inputs.size(); ++t) {
+      const FaceDefTables& table = face.faceDefTables[t];
+      inputs[t] =
+          frame.has(table.fapID) ? tableInput(table.fapID, table.highLevelSelect, frame) : 0;
+    }
 
     for (size_t c = 0; c < out.channels.size(); ++c) {
       MorphWeightChannel& channel = out.channels[c];

@@ -38,8 +38,10 @@ void checkMpegFace(const MpegFace& face, const FapuMeasurement& fapu);
 FaceModel fatMorphModel(const MpegFace& face, const FapuMeasurement& fapu);
 
 // Bakes a FAP stream into an animation of fatMorphModel(face, fapu), named after the stream.
-// Frame i is at i / frameRate seconds; a FAP a frame does not send keeps its last value (0
-// before it is first sent; FAP 1 and 2 likewise, with no viseme or expression before).
+// Each frame is a key at frameTime (its number / frameRate: skipped numbers leave gaps) with
+// the state resolveFapStream gives after it (values held, unsent left/right partners
+// mirrored, nothing before a FAP is first sent); tables are driven by tableInput. Throws
+// mpeg4face::Error for frame numbers that do not increase.
 // - One morph-weight channel (LINEAR) per mesh with FAT targets: the weights of its FAT
 //   targets per frame; its other targets keep their default weights.
 // - One Transform channel (LINEAR; rotations are slerped) per animated field of a Transform
