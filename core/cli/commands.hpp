@@ -26,5 +26,8 @@ int runPsnr(const std::vector<std::string>& args);
 int runEncode(const std::vector<std::string>& args);
 int runDecode(const std::vector<std::string>& args);
 int runRd(const std::vector<std::string>& args);
+int runFat(const std::vector<std::string>& args);
+int runExport(const std::vector<std::string>& args);
+int runApply(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli

@@ -15,7 +15,7 @@ using mpeg4face::cli::Command;
 constexpr std::array kCommands{
     Command{"info", "describe a face model: meshes, morph targets, feature points, FAPU",
             "mpeg4face info FILE [--feature-points CSV] [--json]\n"
-            "  FILE    .gltf, .glb, .obj or .wfm\n"
+            "  FILE    .gltf, .glb, .obj, .wfm or .wrl\n"
             "  --feature-points CSV  bind feature points from CSV (fp,vertex | fp,mesh,vertex |\n"
             "                        fp,x,y,z, or named columns)\n"
             "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
@@ -48,6 +48,22 @@ constexpr std::array kCommands{
             "  --plot F  PSNR against bit rate, one curve per mode (scripts/rd_plot.py, needs\n"
             "            python3-matplotlib; MPEG4FACE_RD_PLOT overrides the script's path)\n",
             mpeg4face::cli::runRd},
+    Command{"fat", "Face Animation Tables from a head's named morph targets, as .wrl",
+            "mpeg4face fat generate HEAD.glb|.gltf [--feature-points CSV] [--threshold T]\n"
+            "                       -o FACE.wrl\n"
+            "  morph targets named fap<N>[_<name>]@<value>, viseme<N>, expression<N>[@<i>]\n"
+            "  (docs/fat.md) become the tables; the basis is the neutral face\n"
+            "  --feature-points CSV  bind feature points (needed for the FAPU), as info\n"
+            "  --threshold T  FAPU a vertex must move to be in a table (default 0.01)\n",
+            mpeg4face::cli::runFat},
+    Command{"export", "a face with tables (.wrl) as glTF: one morph target per interval",
+            "mpeg4face export FACE.wrl -o OUT.glb|.gltf\n", mpeg4face::cli::runExport},
+    Command{"apply", "animate a face (.wrl) with a .fap stream: one frame, or all as glTF",
+            "mpeg4face apply FACE.wrl STREAM.fap --frame N -o OUT.obj|.glb|.gltf\n"
+            "mpeg4face apply FACE.wrl STREAM.fap -o OUT.glb|.gltf\n"
+            "  --frame N  the frame numbered N in the file (values held, left/right mirrored)\n"
+            "  without --frame the whole stream is baked as a glTF animation\n",
+            mpeg4face::cli::runApply},
 };
 
 void printHelp(std::FILE* out) {

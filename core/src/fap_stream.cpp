@@ -85,4 +85,14 @@ std::vector<FapState> resolveFapStream(const FapStream& stream) {
   return out;
 }
 
+FapFrame resolvedFrame(const FapState& state) {
+  FapFrame f;
+  f.number = state.number;
+  f.mask = state.active;
+  f.values = state.values;
+  f.viseme = state.viseme;
+  f.expression = state.expression;
+  return f;
+}
+
 }  // namespace mpeg4face

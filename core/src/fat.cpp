@@ -9,6 +9,20 @@
 
 namespace mpeg4face {
 
+int tableInput(int fapID, int highLevelSelect, const FapFrame& frame) {
+  constexpr int kMaxAmount = 63;  // viseme_blend, expression intensities
+  const int s = highLevelSelect;
+  if (fapID == 1) {
+    const Viseme& v = frame.viseme;
+    return (v.select1 == s ? v.blend : 0) + (v.select2 == s ? kMaxAmount - v.blend : 0);
+  }
+  if (fapID == 2) {
+    const Expression& e = frame.expression;
+    return (e.select1 == s ? e.intensity1 : 0) + (e.select2 == s ? e.intensity2 : 0);
+  }
+  return frame.value(fapID);
+}
+
 double fapScale(const FapuMeasurement& fapu, int fapID) {
   if (fapID == 1 || fapID == 2) return 1.0;
   return fapu.unit(fapInfo(fapID).fapu);

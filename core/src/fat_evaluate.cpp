@@ -432,15 +432,7 @@ void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
   const FapBits active = frame.mask & lowLevelWithTables_;
   for (const Table& t : tables_) {
     if (!frame.has(t.fapID)) continue;
-    const int s = t.highLevelSelect;
-    int value = 0;
-    if (t.fapID == 1) {
-      value = (vis.select1 == s ? vis.blend : 0) + (vis.select2 == s ? kMaxAmount - vis.blend : 0);
-    } else if (t.fapID == 2) {
-      value = (ex.select1 == s ? ex.intensity1 : 0) + (ex.select2 == s ? ex.intensity2 : 0);
-    } else {
-      value = frame.value(t.fapID);
-    }
+    const int value = tableInput(t.fapID, t.highLevelSelect, frame);
     if (value == 0) continue;
     const FapBits* priority = t.fapID <= 2 && active.any() ? &active : nullptr;
     for (const Mesh& m : t.meshes) addMesh(m, value, work, priority);

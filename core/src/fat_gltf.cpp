@@ -11,6 +11,7 @@
 
 #include "gltf_internal.hpp"
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/fat_evaluate.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/spec.hpp"
 
@@ -19,7 +20,6 @@ namespace {
 
 constexpr int kVisemeCount = 15;
 constexpr int kExpressionCount = 7;
-constexpr int kHighLevelMax = 63;  // viseme_blend and expression intensities are 0..63
 
 std::string str(size_t n) { return std::to_string(n); }
 
@@ -46,46 +46,6 @@ std::vector<std::vector<int>> firstTargets(const MpegFace& face) {
   }
   return first;
 }
-
-// The FAP state a decoder holds after some frames, by the simple hold rule of bakeFapStream.
-struct HeldState {
-  std::array<int, kFapCount> values{};
-  Viseme viseme;
-  Expression expression;
-  bool visemeSent = false;
-  bool expressionSent = false;
-
-  void update(const FapFrame& frame) {
-    for (int fap = 3; fap <= kFapCount; ++fap) {
-      if (frame.has(fap)) values[fap - 1] = frame.value(fap);
-    }
-    if (frame.has(1)) {
-      viseme = frame.viseme;
-      visemeSent = true;
-    }
-    if (frame.has(2)) {
-      expression = frame.expression;
-      expressionSent = true;
-    }
-  }
-
-  // What drives a table: its FAP's value, or for FAP 1 / 2 the amount of its viseme /
-  // expression (fat.hpp).
-  double input(const FaceDefTables& table) const {
-    const int select = table.highLevelSelect;
-    if (table.fapID == 1) {
-      if (!visemeSent) return 0;
-      return (viseme.select1 == select ? viseme.blend : 0) +
-             (viseme.select2 == select ? kHighLevelMax - viseme.blend : 0);
-    }
-    if (table.fapID == 2) {
-      if (!expressionSent) return 0;
-      return (expression.select1 == select ? expression.intensity1 : 0) +
-             (expression.select2 == select ? expression.intensity2 : 0);
-    }
-    return values[table.fapID - 1];
-  }
-};
 
 tinygltf::Value numbers(std::initializer_list<double> values) {
   tinygltf::Value::Array out;
@@ -381,97 +341,19 @@ std::string fatTargetName(int fapID, int highLevelSelect, int lower, int upper) 
 }
 
 void checkMpegFace(const MpegFace& face, const FapuMeasurement& fapu) {
-  const FaceModel& model = face.faceSceneGraph;
-  try {
-    model.validate();
-  } catch (const Error& e) {
-    fail("faceSceneGraph " + e.field(), e.reason());
-  }
+  validateMpegFace(face);
   for (size_t t = 0; t < face.faceDefTables.size(); ++t) {
-    const FaceDefTables& table = face.faceDefTables[t];
-    const std::string tp = tableField(t);
-    const int fap = table.fapID;
-    if (fap < 1 || fap > kFapCount) {
-      fail(tp + ".fapID", "FAP " + std::to_string(fap) + " does not exist (1..68)");
+    const int fap = face.faceDefTables[t].fapID;
+    if (fapScale(fapu, fap) > 0) continue;
+    const std::string unit(fapuName(fapInfo(fap).fapu));
+    std::string why;
+    for (const auto& [name, distance] : fapu.distances()) {
+      if (name == unit + "0") why = distance->method;
     }
-    const int select = table.highLevelSelect;
-    if (fap == 1 && (select < 0 || select >= kVisemeCount)) {
-      fail(tp + ".highLevelSelect", "viseme " + std::to_string(select) + " does not exist (0..14)");
-    }
-    if (fap == 2 && (select < 0 || select >= kExpressionCount)) {
-      fail(tp + ".highLevelSelect",
-           "expression " + std::to_string(select) + " does not exist (0..6)");
-    }
-    if (!(fapScale(fapu, fap) > 0)) {
-      const std::string unit(fapuName(fapInfo(fap).fapu));
-      std::string why;
-      for (const auto& [name, distance] : fapu.distances()) {
-        if (name == unit + "0") why = distance->method;
-      }
-      fail(tp + ".fapID", "FAP " + std::to_string(fap) + " (" + std::string(fapInfo(fap).name) +
-                              ") moves in " + unit + " units, but the face's " + unit +
-                              "0 is not measured" + (why.empty() ? "" : ": " + why));
-    }
-    for (size_t m = 0; m < table.faceDefMesh.size(); ++m) {
-      const FaceDefMesh& def = table.faceDefMesh[m];
-      const std::string mp = tp + ".faceDefMesh[" + str(m) + "]";
-      if (def.mesh < 0 || static_cast<size_t>(def.mesh) >= model.meshes.size()) {
-        fail(mp + ".mesh", "mesh " + std::to_string(def.mesh) + " does not exist");
-      }
-      const IndexedFaceSet& mesh = model.meshes[def.mesh];
-      try {
-        checkIntervalBorders(def.intervalBorders);
-      } catch (const Error& e) {
-        fail(mp + ".intervalBorders", e.reason());
-      }
-      std::vector<bool> seen(static_cast<size_t>(mesh.vertexCount()), false);
-      for (size_t i = 0; i < def.coordIndex.size(); ++i) {
-        const int v = def.coordIndex[i];
-        if (v < 0 || v >= mesh.vertexCount()) {
-          fail(mp + ".coordIndex[" + str(i) + "]",
-               "vertex " + std::to_string(v) + " is not in mesh '" + mesh.name + "' (" +
-                   std::to_string(mesh.vertexCount()) + " vertices)");
-        }
-        if (seen[v]) {
-          fail(mp + ".coordIndex[" + str(i) + "]",
-               "vertex " + std::to_string(v) + " is listed twice");
-        }
-        seen[v] = true;
-      }
-      const auto expected = static_cast<Eigen::Index>(def.coordIndex.size()) * def.intervalCount();
-      if (def.displacements.rows() != expected) {
-        fail(mp + ".displacements", "has " + std::to_string(def.displacements.rows()) + " rows; " +
-                                        str(def.coordIndex.size()) + " vertices x " +
-                                        std::to_string(def.intervalCount()) + " intervals need " +
-                                        std::to_string(expected));
-      }
-      if (!def.displacements.allFinite()) fail(mp + ".displacements", "has a non-finite value");
-    }
-    for (size_t d = 0; d < table.faceDefTransform.size(); ++d) {
-      const FaceDefTransform& def = table.faceDefTransform[d];
-      const std::string dp = tp + ".faceDefTransform[" + str(d) + "]";
-      if (def.transform < 0 || static_cast<size_t>(def.transform) >= model.transforms.size()) {
-        fail(dp + ".transform", "transform " + std::to_string(def.transform) + " does not exist");
-      }
-      switch (def.fieldId) {
-        case FaceDefTransform::Field::Rotation:
-          if (!def.rotationDef.allFinite()) fail(dp + ".rotationDef", "has a non-finite value");
-          if (def.rotationDef.head<3>().isZero(0)) {
-            fail(dp + ".rotationDef", "the rotation axis is zero");
-          }
-          break;
-        case FaceDefTransform::Field::Scale:
-          if (!def.scaleDef.allFinite()) fail(dp + ".scaleDef", "has a non-finite value");
-          break;
-        case FaceDefTransform::Field::Translation:
-          if (!def.translationDef.allFinite()) {
-            fail(dp + ".translationDef", "has a non-finite value");
-          }
-          break;
-        default:
-          fail(dp + ".fieldId", "expected 1 (rotation), 2 (scale) or 3 (translation)");
-      }
-    }
+    fail(tableField(t) + ".fapID", "FAP " + std::to_string(fap) + " (" +
+                                       std::string(fapInfo(fap).name) + ") moves in " + unit +
+                                       " units, but the face's " + unit + "0 is not measured" +
+                                       (why.empty() ? "" : ": " + why));
   }
 }
 
@@ -575,14 +457,26 @@ MorphWeightAnimation bakeFapStream(const MpegFace& face, const FapuMeasurement& 
     }
   }
 
-  HeldState state;
+  // What a decoder holds after each frame: values held, unsent left/right partners mirrored.
+  const std::vector<FapState> states = resolveFapStream(stream);
   std::vector<double> inputs(face.faceDefTables.size());
   std::vector<double> weights;
   std::vector<double> interval;
+  double previous = -1;
   for (size_t f = 0; f < stream.frames.size(); ++f) {
-    state.update(stream.frames[f]);
-    const double time = static_cast<double>(f) / stream.frameRate;
-    for (size_t t = 0; t < inputs.size(); ++t) inputs[t] = state.input(face.faceDefTables[t]);
+    const FapFrame frame = resolvedFrame(states[f]);
+    const double time = frameTime(stream, stream.frames[f]);
+    if (!(time > previous)) {
+      fail("frames[" + str(f) + "].number", "FAP stream '" + stream.name + "': frame number " +
+                                                std::to_string(stream.frames[f].number) +
+                                                " is not after the previous one (or negative)");
+    }
+    previous = time;
+    for (size_t t = 0; t < inputs.size(); ++t) {
+      const FaceDefTables& table = face.faceDefTables[t];
+      inputs[t] =
+          frame.has(table.fapID) ? tableInput(table.fapID, table.highLevelSelect, frame) : 0;
+    }
 
     for (size_t c = 0; c < out.channels.size(); ++c) {
       MorphWeightChannel& channel = out.channels[c];

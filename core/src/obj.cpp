@@ -2,6 +2,8 @@
 #include "mpeg4face/obj.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <unordered_map>
@@ -226,6 +228,49 @@ FaceModel parseObj(std::string_view text, const std::string& fileName) {
 
 FaceModel readObj(const std::filesystem::path& path) {
   return parseObj(readFile(path), path.string());
+}
+
+std::string objText(const FaceModel& model) {
+  model.validate();
+  const std::vector<Eigen::Affine3d> world = model.meshWorldMatrices();
+  std::string out = "# mpeg4face\n";
+  char buffer[64];
+  long long first = 1;  // OBJ number of the current mesh's vertex 0
+  for (std::size_t m = 0; m < model.meshes.size(); ++m) {
+    const IndexedFaceSet& mesh = model.meshes[m];
+    // A name on one line; an empty one would make `o` name nothing.
+    std::string name = mesh.name.empty() ? "mesh" + std::to_string(m) : mesh.name;
+    std::replace(name.begin(), name.end(), '\n', ' ');
+    std::replace(name.begin(), name.end(), '\r', ' ');
+    out += "o " + name + "\n";
+    for (int i = 0; i < mesh.vertexCount(); ++i) {
+      const Eigen::Vector3d p = world[m] * mesh.coord.row(i).transpose();
+      out += 'v';
+      for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(p[c])) {
+          throw Error({}, 0, "meshes[" + std::to_string(m) + "].coord[" + std::to_string(i) + "]",
+                      "position is not finite");
+        }
+        out += ' ';
+        out.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, p[c]).ptr);
+      }
+      out += '\n';
+    }
+    for (const auto& [begin, end] : mesh.faceRanges()) {
+      out += 'f';
+      for (int k = begin; k < end; ++k) {
+        out += ' ';
+        out += std::to_string(first + mesh.coordIndex[static_cast<std::size_t>(k)]);
+      }
+      out += '\n';
+    }
+    first += mesh.vertexCount();
+  }
+  return out;
+}
+
+void writeObj(const FaceModel& model, const std::filesystem::path& path) {
+  writeFileAtomically(path, objText(model));
 }
 
 }  // namespace mpeg4face

@@ -210,6 +210,10 @@ FapStream testStream(std::vector<Held>& held) {
   stream.frames.push_back(f);
   held.push_back(
       {.fap3 = 700, .fap6 = 250, .fap23 = -30000, .fap25 = 5000, .viseme3 = 0, .joy = 40});
+  // Frame numbers as sent: 0, 1, 2, then 5, 6, 7 (frames 3 and 4 skipped: values hold).
+  for (size_t i = 0; i < stream.frames.size(); ++i) {
+    stream.frames[i].number = static_cast<int>(i < 3 ? i : i + 2);
+  }
   return stream;
 }
 
@@ -326,7 +330,7 @@ TEST_F(FatGltfTest, BakedStreamMatchesTheTables) {
   ASSERT_EQ(channel.weights.size(), held.size() * targets);
   for (size_t f = 0; f < held.size(); ++f) {
     SCOPED_TRACE("frame " + std::to_string(f));
-    EXPECT_NEAR(channel.times[f], static_cast<double>(f) / 25.0, 1e-6);
+    EXPECT_NEAR(channel.times[f], static_cast<double>(f < 3 ? f : f + 2) / 25.0, 1e-6);
     Points3 posed = skin.coord;
     for (size_t k = 0; k < targets; ++k) {
       posed += channel.weights[f * targets + k] * skin.morphTargets[k].displacements;
@@ -498,7 +502,11 @@ TEST_F(FatGltfTest, TablesRoundTrip) {
 // Several FaceDefMesh giving a mesh the same name get "#2", "#3".
 TEST_F(FatGltfTest, RepeatedNamesAreNumbered) {
   MpegFace face = testFace();
-  face.faceDefTables.push_back(face.faceDefTables[0]);
+  // The mesh's own target already has the name of FAP 6's first interval.
+  IndexedFaceSet& mesh = face.faceSceneGraph.meshes[kFace];
+  mesh.morphTargets.push_back(
+      {"fap6_stretch_l_cornerlip[0,500]", Points3::Zero(mesh.vertexCount(), 3)});
+  if (!mesh.weights.empty()) mesh.weights.push_back(0);
   const FaceModel model = fatMorphModel(face, testFapu());
   EXPECT_TRUE(findTarget(model.meshes[kFace], "fap6_stretch_l_cornerlip[0,500]#2"));
 }
@@ -521,28 +529,28 @@ TEST(FatGltfErrors, BadTablesNameTheField) {
   };
   MpegFace face = testFace();
   face.faceDefTables[0].faceDefMesh[0].coordIndex[1] = 60;
-  EXPECT_EQ(fieldOf(face), "faceDefTables[0].faceDefMesh[0].coordIndex[1]");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[0] (FAP 6).faceDefMesh[0].coordIndex[1]");
   face = testFace();
   face.faceDefTables[0].faceDefMesh[0].coordIndex[1] = 50;
-  EXPECT_EQ(fieldOf(face), "faceDefTables[0].faceDefMesh[0].coordIndex[1]");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[0] (FAP 6).faceDefMesh[0].coordIndex[1]");
   face = testFace();
   face.faceDefTables[2].faceDefMesh[0].displacements.conservativeResize(1, 3);
-  EXPECT_EQ(fieldOf(face), "faceDefTables[2].faceDefMesh[0].displacements");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[2] (FAP 3).faceDefMesh[0].displacements");
   face = testFace();
   face.faceDefTables[0].faceDefMesh[0].intervalBorders = {-1000, 10, 500, 1000};
-  EXPECT_EQ(fieldOf(face), "faceDefTables[0].faceDefMesh[0].intervalBorders");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[0] (FAP 6).faceDefMesh[0].intervalBorders");
   face = testFace();
   face.faceDefTables[1].faceDefTransform[0].rotationDef = {0, 0, 0, 1};
-  EXPECT_EQ(fieldOf(face), "faceDefTables[1].faceDefTransform[0].rotationDef");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[1] (FAP 25).faceDefTransform[0].rotationDef");
   face = testFace();
   face.faceDefTables[1].faceDefTransform[0].transform = 7;
-  EXPECT_EQ(fieldOf(face), "faceDefTables[1].faceDefTransform[0].transform");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[1] (FAP 25).faceDefTransform[0].faceSceneGraphNode");
   face = testFace();
   face.faceDefTables[3].highLevelSelect = 15;
-  EXPECT_EQ(fieldOf(face), "faceDefTables[3].highLevelSelect");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[3] (FAP 1 viseme 15).highLevelSelect");
   face = testFace();
   face.faceDefTables[0].fapID = 69;
-  EXPECT_EQ(fieldOf(face), "faceDefTables[0].fapID");
+  EXPECT_EQ(fieldOf(face), "faceDefTables[0] (FAP 69).fapID");
 
   // A FAP whose FAPU the face does not measure.
   FapuMeasurement noMouth = fapu;

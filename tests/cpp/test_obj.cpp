@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -18,6 +19,7 @@ namespace {
 using mpeg4face::Error;
 using mpeg4face::FaceModel;
 using mpeg4face::IndexedFaceSet;
+using mpeg4face::Points3;
 
 using mpeg4face::test::errorOf;
 using mpeg4face::test::kData;
@@ -265,3 +267,50 @@ TEST(Obj, GarbageMessagesAreReadable) {
 }
 
 }  // namespace
+
+// Two meshes, one under a rotated and translated Transform: the file holds model-space
+// positions (computed here by hand) and reads back as the same meshes and faces.
+TEST(Obj, WriteReadRoundTripInModelSpace) {
+  FaceModel model;
+  IndexedFaceSet quad;
+  quad.name = "skin";
+  quad.coord.resize(4, 3);
+  quad.coord << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0.1, 1, 1e-7;
+  quad.coordIndex = {0, 1, 2, 3, -1};
+  IndexedFaceSet tri;
+  tri.name = "eye left";
+  tri.coord.resize(3, 3);
+  tri.coord << 1, 0, 0, 0, 1, 0, 0, 0, 1;
+  tri.coordIndex = {2, 1, 0, -1};
+  model.addMeshWithTransform(quad);
+  const int eye = model.addMeshWithTransform(tri);
+  model.transforms[static_cast<size_t>(eye)].translation = {10, 20, 30};
+  // 90 degrees about z: (x, y, z) -> (-y, x, z).
+  model.transforms[static_cast<size_t>(eye)].rotation =
+      Eigen::Quaterniond(Eigen::AngleAxisd(std::acos(-1.0) / 2, Eigen::Vector3d::UnitZ()));
+  const std::filesystem::path path = mpeg4face::test::scratchDir() / "round_trip.obj";
+  mpeg4face::writeObj(model, path);
+  const FaceModel back = mpeg4face::readObj(path);
+  ASSERT_EQ(back.meshes.size(), 2u);
+  EXPECT_EQ(back.meshes[0].name, "skin");
+  EXPECT_EQ(back.meshes[1].name, "eye left");
+  EXPECT_EQ(back.meshes[0].coordIndex, quad.coordIndex);
+  EXPECT_EQ(back.meshes[0].coord, quad.coord);  // identity: bit-exact
+  EXPECT_EQ(back.meshes[1].coordIndex, tri.coordIndex);
+  Points3 expected(3, 3);
+  expected << 10, 21, 30, 9, 20, 30, 10, 20, 31;
+  EXPECT_LE((back.meshes[1].coord - expected).cwiseAbs().maxCoeff(), 1e-12);
+  // File numbering continues across meshes: the triangle's corners are 7 6 5.
+  EXPECT_NE(mpeg4face::readFile(path).find("f 7 6 5\n"), std::string::npos);
+}
+
+TEST(Obj, WriteRejectsNonFinitePositions) {
+  FaceModel model;
+  IndexedFaceSet tri;
+  tri.coord.resize(3, 3);
+  tri.coord << 0, 0, 0, 1, 0, 0, 0, std::nan(""), 0;
+  tri.coordIndex = {0, 1, 2, -1};
+  model.addMeshWithTransform(tri);
+  const std::string message = errorOf([&] { mpeg4face::objText(model); }).what();
+  EXPECT_NE(message.find("meshes[0].coord[2]"), std::string::npos) << message;
+}

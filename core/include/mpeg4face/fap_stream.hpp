@@ -104,5 +104,7 @@ struct FapState {
 void applyFrame(FapState& state, const FapFrame& frame);
 // The resolved state after each frame of the stream (one per frame).
 std::vector<FapState> resolveFapStream(const FapStream& stream);
+// A resolved state as a frame that sends every active FAP (what an evaluator takes).
+FapFrame resolvedFrame(const FapState& state);
 
 }  // namespace mpeg4face

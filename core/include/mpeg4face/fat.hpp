@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mpeg4face/face_model.hpp"
+#include "mpeg4face/fap_stream.hpp"
 #include "mpeg4face/fapu.hpp"
 
 namespace mpeg4face {
@@ -68,6 +69,12 @@ struct MpegFace {
 // checkIntervalBorders).
 void intervalWeights(std::span<const int> intervalBorders, double value,
                      std::vector<double>& weights);
+
+// What drives a table in `frame` (whether its FAP is present is the caller's test): the
+// value of FAP fapID (3..68); for a viseme table (fapID 1) its amount viseme_blend where
+// viseme_select1 names it plus 63 - viseme_blend where viseme_select2 does; for an
+// expression table (fapID 2) the intensity of each expression_select that names it.
+int tableInput(int fapID, int highLevelSelect, const FapFrame& frame);
 
 // The unit a FAP's value is multiplied by: the FAPU of `fapID` in model units, AU in
 // radians, 1 for FAP 1 and 2 (see FaceDefTables). 0 if that FAPU was not measured.

@@ -24,11 +24,8 @@ namespace mpeg4face {
 // fatMorphModel appends "#2", "#3", ... to a name its mesh already has.
 std::string fatTargetName(int fapID, int highLevelSelect, int lower, int upper);
 
-// Throws mpeg4face::Error (field e.g. "faceDefTables[2].faceDefMesh[0].coordIndex") unless
-// the face's scene graph is valid and every table is: fapID 1..68, highLevelSelect 0..14
-// (FAP 1) or 0..6 (FAP 2), nodes that exist, valid interval borders, coordIndex entries in
-// range and distinct, one displacement per (entry, interval), finite numbers, a non-zero
-// rotation axis, and a FAPU the face measures for every FAP with a table.
+// validateMpegFace (fat_evaluate.hpp), and throws mpeg4face::Error (field
+// "faceDefTables[2].fapID") unless the face measures the FAPU of every FAP with a table.
 void checkMpegFace(const MpegFace& face, const FapuMeasurement& fapu);
 
 // The neutral scene graph with one morph target per FaceDefMesh interval appended to the
@@ -41,8 +38,10 @@ void checkMpegFace(const MpegFace& face, const FapuMeasurement& fapu);
 FaceModel fatMorphModel(const MpegFace& face, const FapuMeasurement& fapu);
 
 // Bakes a FAP stream into an animation of fatMorphModel(face, fapu), named after the stream.
-// Frame i is at i / frameRate seconds; a FAP a frame does not send keeps its last value (0
-// before it is first sent; FAP 1 and 2 likewise, with no viseme or expression before).
+// Each frame is a key at frameTime (its number / frameRate: skipped numbers leave gaps) with
+// the state resolveFapStream gives after it (values held, unsent left/right partners
+// mirrored, nothing before a FAP is first sent); tables are driven by tableInput. Throws
+// mpeg4face::Error for frame numbers that do not increase.
 // - One morph-weight channel (LINEAR) per mesh with FAT targets: the weights of its FAT
 //   targets per frame; its other targets keep their default weights.
 // - One Transform channel (LINEAR; rotations are slerped) per animated field of a Transform

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Wavefront OBJ reading.
+// Wavefront OBJ reading and writing.
 #pragma once
 
 #include <filesystem>
@@ -23,5 +23,14 @@ FaceModel readObj(const std::filesystem::path& path);
 // The same from text already in memory; `fileName` is used in messages and to name the
 // default mesh.
 FaceModel parseObj(std::string_view text, const std::string& fileName);
+
+// The OBJ text of `model`: per mesh an `o` line with its name, its vertices in model space
+// (after meshWorldMatrices) as `v` lines (shortest text that reads back to the same double),
+// and its faces as 1-based `f` lines numbered across the file. UVs, normals, morph targets
+// and animations are not written. Throws mpeg4face::Error for a model that fails validate()
+// or a position that is not finite.
+std::string objText(const FaceModel& model);
+// objText written atomically (see writeFileAtomically).
+void writeObj(const FaceModel& model, const std::filesystem::path& path);
 
 }  // namespace mpeg4face
