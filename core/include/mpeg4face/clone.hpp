@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Facial Motion Cloning (Pandzic 2003): the motion of every deformed copy of a source face
+// (a FAP, viseme or expression shape) is carried to a neutral target face that has feature
+// points, so the target gets the same copies and, from them, its FaceDefTables. Method and
+// the feature-point triangulation in docs/clone.md.
+#pragma once
+
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mpeg4face/face_model.hpp"
+#include "mpeg4face/fapu.hpp"
+#include "mpeg4face/fat.hpp"
+#include "mpeg4face/fat_generate.hpp"
+
+namespace mpeg4face {
+
+struct CloneOptions {
+  // Support of the antialiasing (low-pass) filter in alignment-space units (the paper's
+  // 0.02); 0 turns the filter off.
+  double filterSupport = 0.02;
+  // Keep the upper and lower lip regions apart (the paper's lip-region rule).
+  bool separateLips = true;
+  // Map eyes, teeth, tongue and global head motion as transforms (clone_rigid.hpp).
+  bool rigidParts = true;
+  // Called with a stage name and the fraction done (0..1) of the whole job; may be empty.
+  std::function<void(std::string_view stage, double fraction)> progress;
+};
+
+// The feature points the vertex mapping needs (the triangulation of docs/clone.md), in
+// table order. 3.5, 3.6 (eye rotation centres) and 7.2 (neck base) are used by the rigid
+// parts only: without them those motions are skipped with a warning.
+std::span<const std::string_view> cloneFeaturePoints();
+// Those of cloneFeaturePoints() that `model` does not bind, in table order.
+std::vector<std::string> missingCloneFeaturePoints(const FaceModel& model);
+
+struct CloneResult {
+  // The target with rotation centres installed where needed (clone_rigid.hpp); the neutral
+  // that `copies` deform.
+  FaceModel targetNeutral;
+  // One per source copy, same name, fapID, highLevelSelect and amplitude.
+  std::vector<DeformedCopy> copies;
+  std::vector<std::string> warnings;
+};
+
+// Clones every copy of `sourceNeutral` onto `targetNeutral`. Vertex motion is the change of
+// each vertex's mesh-local position, taken to model space by the neutral world matrices
+// (Transform changes are the rigid parts' business, not vertex motion). Throws
+// mpeg4face::Error listing every missing feature point of either face (source / target
+// named), and for copies whose topology differs from the source neutral (naming the copy).
+CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
+                                std::span<const DeformedCopy> sourceCopies,
+                                const FaceModel& targetNeutral, const CloneOptions& options = {});
+
+// A source given by its tables: one copy per non-zero interval border of each table (a
+// one-interval table at a documented amplitude), visemes and expressions at 63, each
+// evaluated alone from the neutral (FatEvaluator). Rules in docs/clone.md.
+std::vector<DeformedCopy> deformedCopiesFromFaceDefTables(const MpegFace& face,
+                                                          const FapuMeasurement& fapu);
+
+struct ClonedFace {
+  MpegFace face;  // the target with its FaceDefTables (generateFaceDefTables)
+  std::vector<DeformedCopy> copies;
+  std::vector<std::string> warnings;
+};
+// cloneDeformedCopies, then the target's tables from its copies.
+ClonedFace cloneFace(const FaceModel& sourceNeutral, std::span<const DeformedCopy> sourceCopies,
+                     const FaceModel& targetNeutral, const CloneOptions& options = {});
+
+}  // namespace mpeg4face
