@@ -93,14 +93,16 @@ TEST(MakeHumanHead, AnatomyHolds) {
   const double mw = mpeg4face::measureFapu(head().model).MW0.value;
   const double es = mpeg4face::measureFapu(head().model).ES0.value;
   // The face's left is +x (MPEG-4): left-side points at larger x than their right partners.
-  for (const auto& [left, right] :
-       std::vector<std::pair<std::string, std::string>>{{"3.5", "3.6"},
-                                                        {"8.3", "8.4"},
-                                                        {"2.4", "2.5"},
-                                                        {"3.7", "3.12"},
-                                                        {"4.5", "4.6"},
-                                                        {"10.1", "10.2"},
-                                                        {"9.1", "9.2"}}) {
+  const std::vector<std::pair<std::string, std::string>> pairs = {
+      {"3.5", "3.6"},    {"8.3", "8.4"},   {"2.4", "2.5"},   {"3.7", "3.12"},  {"4.5", "4.6"},
+      {"10.1", "10.2"},  {"9.1", "9.2"},   {"2.6", "2.7"},   {"2.8", "2.9"},   {"2.11", "2.12"},
+      {"2.13", "2.14"},  {"3.1", "3.2"},   {"3.3", "3.4"},   {"3.9", "3.10"},  {"3.11", "3.8"},
+      {"3.13", "3.14"},  {"4.1", "4.2"},   {"4.3", "4.4"},   {"5.1", "5.2"},   {"5.3", "5.4"},
+      {"6.3", "6.4"},    {"8.5", "8.6"},   {"8.7", "8.8"},   {"8.10", "8.9"},  {"9.5", "9.4"},
+      {"9.7", "9.6"},    {"9.13", "9.14"}, {"10.3", "10.4"}, {"10.5", "10.6"}, {"10.7", "10.8"},
+      {"10.9", "10.10"}, {"11.3", "11.2"}};
+  for (const auto& [left, right] : pairs) {
+    EXPECT_GT(at(left).x(), 0.0) << left;
     EXPECT_GT(at(left).x(), at(right).x()) << left << " " << right;
   }
   // Lip corners mirror each other within 5% of MW0.
