@@ -48,14 +48,13 @@ std::string pointList(const PartSpec& spec) {
 // rotation centre may be from the part's centre (fraction of the part's size).
 constexpr double kMotionTolerance = 1e-6;
 constexpr double kCentreTolerance = 0.01;
-// A mesh is connected to a part when one of its vertices lies within this fraction of the
-// part's feature-point meshes' size (bounding-box diagonal) of the part's surface, or back.
-constexpr double kConnectTolerance = 0.01;
+// Vertex positions closer than this fraction of the part's feature-point meshes' size
+// (bounding-box diagonal) are shared.
+constexpr double kConnectTolerance = 0.001;
 
 // A mesh in model space, for the connected-mesh test and part centres.
 struct MeshGeometry {
   Points3 points;
-  std::vector<int> triangles;
   Eigen::AlignedBox3d box;
 };
 
@@ -115,10 +114,6 @@ Scene makeScene(const FaceModel& model) {
       g.points.row(v) = (meshWorld[mesh] * set.coord.row(v).transpose()).transpose();
       g.box.extend(g.points.row(v).transpose());
     }
-    for (int index : set.triangles()) {
-      if (index >= 0 && index < set.vertexCount()) g.triangles.push_back(index);
-    }
-    g.triangles.resize(g.triangles.size() / 3 * 3);
   }
   s.featurePoints.assign(nm, {});
   for (const auto& [id, fp] : model.featurePoints) {
@@ -130,64 +125,27 @@ Scene makeScene(const FaceModel& model) {
   return s;
 }
 
-// Squared distance from p to triangle abc (Ericson, Real-Time Collision Detection 5.1.5).
-double squaredDistanceToTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                 const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.squaredNorm();
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.squaredNorm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).squaredNorm();
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.squaredNorm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).squaredNorm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
-    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).squaredNorm();
+// Two meshes are connected when they share a vertex position (within `tol`): pieces of one
+// object meet along common vertices; a mesh that merely lies close (eyelashes by the
+// eyeball, a joint helper inside the tongue) is not part of it.
+bool connected(const MeshGeometry& a, const MeshGeometry& b, double tol) {
+  if (a.box.isEmpty() || b.box.isEmpty() || a.box.exteriorDistance(b.box) > tol) return false;
+  Eigen::AlignedBox3d overlap = a.box.intersection(b.box);
+  overlap.min().array() -= tol;
+  overlap.max().array() += tol;
+  std::vector<Eigen::Vector3d> near;
+  for (Eigen::Index w = 0; w < b.points.rows(); ++w) {
+    if (overlap.contains(b.points.row(w).transpose())) near.push_back(b.points.row(w).transpose());
   }
-  const double denom = va + vb + vc;
-  if (denom <= 0) return std::min({ap.squaredNorm(), bp.squaredNorm(), cp.squaredNorm()});
-  return (p - (a + ab * (vb / denom) + ac * (vc / denom))).squaredNorm();
-}
-
-// Some vertex of `a` within `tol` of the surface of `b` (of a vertex of `b` if it has no
-// faces).
-bool touches(const MeshGeometry& a, const MeshGeometry& b, double tol) {
-  Eigen::AlignedBox3d near = b.box;
-  near.min().array() -= tol;
-  near.max().array() += tol;
   const double tol2 = tol * tol;
   for (Eigen::Index v = 0; v < a.points.rows(); ++v) {
     const Eigen::Vector3d p = a.points.row(v).transpose();
-    if (!near.contains(p)) continue;
-    if (b.triangles.empty()) {
-      for (Eigen::Index w = 0; w < b.points.rows(); ++w) {
-        if ((b.points.row(w).transpose() - p).squaredNorm() <= tol2) return true;
-      }
-    }
-    for (size_t k = 0; k < b.triangles.size(); k += 3) {
-      const Eigen::Vector3d t0 = b.points.row(b.triangles[k]).transpose();
-      const Eigen::Vector3d t1 = b.points.row(b.triangles[k + 1]).transpose();
-      const Eigen::Vector3d t2 = b.points.row(b.triangles[k + 2]).transpose();
-      if ((p.array() < t0.cwiseMin(t1).cwiseMin(t2).array() - tol).any() ||
-          (p.array() > t0.cwiseMax(t1).cwiseMax(t2).array() + tol).any()) {
-        continue;
-      }
-      if (squaredDistanceToTriangle(p, t0, t1, t2) <= tol2) return true;
+    if (!overlap.contains(p)) continue;
+    for (const Eigen::Vector3d& q : near) {
+      if ((p - q).squaredNorm() <= tol2) return true;
     }
   }
   return false;
-}
-
-bool connected(const MeshGeometry& a, const MeshGeometry& b, double tol) {
-  if (a.box.isEmpty() || b.box.isEmpty()) return false;
-  if (a.box.exteriorDistance(b.box) > tol) return false;
-  return touches(a, b, tol) || touches(b, a, tol);
 }
 
 Eigen::AlignedBox3d boxOf(const Scene& s, const std::vector<int>& meshes) {
