@@ -69,6 +69,7 @@ struct FaceSpec {
   double eyeTilt = 0.0;       // neutral rotation of the left eye Transform about z
   bool tonguePoints = true;   // binds 6.1, 6.2
   bool eyePoints = true;      // binds 3.5, 3.6
+  bool eyesInHead = false;    // eye meshes held by Head itself, beside the skin
 };
 
 // Eye centres (before scaling).
@@ -120,9 +121,9 @@ FaceModel syntheticFace(const FaceSpec& spec = {}) {
   // Eyes: spheres; 3.5 / 3.6 on the front pole (the pupil centre).
   for (int side = 0; side < 2; ++side) {
     const Eigen::Vector3d centre = side == 0 ? kLeftEye : kRightEye;
-    const int t = addTransform(side == 0 ? "EyeL" : "EyeR", head);
+    const int t = spec.eyesInHead ? head : addTransform(side == 0 ? "EyeL" : "EyeR", head);
     int mesh;
-    if (spec.eyesAtOrigin) {
+    if (spec.eyesAtOrigin || spec.eyesInHead) {
       mesh = addMesh(sphere(side == 0 ? "EyeballL" : "EyeballR", centre, kEyeRadius), t);
     } else {
       m.transforms[t].translation = s * centre;
@@ -271,6 +272,14 @@ TEST(CloneRigid, ClenchedTeethAreSeparatedByTheirFeaturePoints) {
             (std::vector<std::string>{"UpperGum", "UpperTeeth"}));
   EXPECT_EQ(meshNames(source, lower->sourceMeshes),
             (std::vector<std::string>{"LowerGum", "LowerTeeth"}));
+  // The skin sharing a vertex with the upper gum is not taken either (it holds 2.2, 9.15).
+  FaceModel touching = source;
+  touching.meshes[0].coord.row(0) = touching.meshes[*touching.findMesh("UpperGum")].coord.row(7);
+  FaceModel touchingTarget = touching;
+  const RigidPartMap t = matchRigidParts(touching, movingCopies(touching), touchingTarget);
+  ASSERT_NE(findPart(t, Kind::UpperTeeth), nullptr);
+  EXPECT_EQ(meshNames(touching, findPart(t, Kind::UpperTeeth)->sourceMeshes),
+            (std::vector<std::string>{"UpperGum", "UpperTeeth"}));
   // A bridge sharing corners with both teeth, holding no feature point, belongs to neither.
   FaceModel bridged = source;
   bridged.meshes.push_back(box("Bridge", {0.02, -0.045, 0.02}, {0.005, 0.01, 0.005}));
@@ -337,6 +346,67 @@ TEST(CloneRigid, EyeRotationIsClonedAsItIsAboutTheTargetEyeCentre) {
     const int mesh = *target.findMesh(other);
     EXPECT_TRUE(worldPoints(moved, mesh).isApprox(worldPoints(target, mesh), 1e-12)) << other;
   }
+}
+
+TEST(CloneRigid, HeadTurnIsTheHeadsNotTheEyes) {
+  // Only the head turns, about the origin; the eyes' own Transforms stay still.
+  const FaceModel source = syntheticFace();
+  DeformedCopy yaw = copyOf(source, "yaw");
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  yaw.model.transforms[0].rotation = Eigen::Quaterniond(r);
+  const std::vector<DeformedCopy> copies = {yaw};
+  const double s = 1.5;  // ES0 ratio too
+  FaceModel target = syntheticFace({.scale = s});
+  const FaceModel before = target;
+  const RigidPartMap map = matchRigidParts(source, copies, target);
+  ASSERT_EQ(map.parts.size(), 1u);
+  EXPECT_EQ(map.parts[0].kind, Kind::Head);
+  EXPECT_TRUE(map.warnings.empty());
+  FaceModel moved = target;
+  cloneRigidMotion(map, source, measureFapu(source), yaw, measureFapu(target), moved);
+  // By hand: turned about the neck 1.5 * n, the neck displaced by 1.5 (R n - n): for the
+  // scaled face that is R p, a turn about the origin like the source's.
+  for (int mesh = 0; mesh < static_cast<int>(moved.meshes.size()); ++mesh) {
+    const Points3 p0 = worldPoints(before, mesh), p1 = worldPoints(moved, mesh);
+    for (int v = 0; v < p0.rows(); ++v) {
+      EXPECT_LT((p1.row(v).transpose() - r * p0.row(v).transpose()).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(CloneRigid, InsertsATransformForEyesHeldWithTheSkin) {
+  const FaceModel source = syntheticFace();
+  DeformedCopy turn = copyOf(source, "turn");
+  Transform& eye = turn.model.transforms[transformIndex(source, "EyeL")];
+  eye.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());
+  const std::vector<DeformedCopy> copies = {turn};
+  FaceModel target = syntheticFace({.eyesInHead = true});
+  const FaceModel before = target;
+  const RigidPartMap map = matchRigidParts(source, copies, target);
+  ASSERT_EQ(map.parts.size(), 1u);
+  const int inserted = map.parts[0].targetTransform;
+  EXPECT_EQ(inserted, static_cast<int>(before.transforms.size()));
+  EXPECT_EQ(target.transforms[inserted].name, "fmc_left_eye");
+  const int ball = *target.findMesh("EyeballL");
+  EXPECT_EQ(target.transforms[inserted].meshes, std::vector<int>{ball});
+  const auto& headMeshes = target.transforms[0].meshes;
+  EXPECT_EQ(std::count(headMeshes.begin(), headMeshes.end(), ball), 0);
+  EXPECT_EQ(std::count(target.transforms[0].children.begin(), target.transforms[0].children.end(),
+                       inserted),
+            1);
+  for (int mesh = 0; mesh < static_cast<int>(target.meshes.size()); ++mesh) {
+    EXPECT_TRUE(worldPoints(target, mesh).isApprox(worldPoints(before, mesh), 1e-12));
+  }
+  FaceModel moved = target;
+  cloneRigidMotion(map, source, measureFapu(source), turn, measureFapu(target), moved);
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Points3 p0 = worldPoints(target, ball), p1 = worldPoints(moved, ball);
+  for (int v = 0; v < p0.rows(); ++v) {
+    const Eigen::Vector3d want = kLeftEye + r * (p0.row(v).transpose() - kLeftEye);
+    EXPECT_LT((p1.row(v).transpose() - want).norm(), 1e-12);
+  }
+  const int skin = *target.findMesh("Skin");
+  EXPECT_TRUE(worldPoints(moved, skin).isApprox(worldPoints(target, skin), 1e-12));
 }
 
 TEST(CloneRigid, TeethAndTongueTranslationsScaleByMns0) {
