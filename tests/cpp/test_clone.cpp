@@ -239,6 +239,20 @@ TEST(Clone, OpenJawOntoMakeHumanMovesTheChinByFapuAndLeavesTheForehead) {
     }
   }
   std::printf("forehead: %d vertices, largest motion %.2e\n", forehead, moved);
+  // Far below the chin (neck and body) nothing moves: the motion fades out beyond CANDIDE's
+  // edge (CloneOptions::outsideFalloff).
+  double body = 0;
+  for (std::size_t m = 0; m < human.meshes.size(); ++m) {
+    const Points3 motion = motionOf(r.copies[0], human, static_cast<int>(m));
+    for (int v = 0; v < human.meshes[m].vertexCount(); ++v) {
+      const Eigen::Vector3d p = world[m] * human.meshes[m].coord.row(v).transpose();
+      if (p.y() < human.featurePointPosition("2.1")->y() - 5 * targetFapu.MNS0.value) {
+        body = std::max(body, motion.row(v).norm());
+      }
+    }
+  }
+  std::printf("body (5 MNS0 below 2.1): largest motion %.5f\n", body);
+  EXPECT_EQ(body, 0);
   EXPECT_GT(forehead, 20);
   EXPECT_LT(moved, 0.01 * std::abs(expected));
 }
