@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Interpolation from a 2D triangle mesh (Pandzic 2003, "Interpolation from 2D triangle
+// mesh"): a point inside triangles takes its barycentric weights in the one of smallest depth;
+// a point outside all of them takes the clamped, renormalised weights of the triangle of
+// smallest excess barycentric distance. A uniform grid over the triangles' bounding boxes
+// keeps a query from scanning every triangle. Rules in docs/clone.md.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "mpeg4face/face_model.hpp"
+
+namespace mpeg4face {
+
+// Barycentric coordinates of p in triangle (a, b, c); all three NaN for a degenerate one.
+Eigen::Vector3d barycentric2d(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                              const Eigen::Vector2d& b, const Eigen::Vector2d& c);
+// The paper's distance of a point outside a triangle: the sum of the amounts by which its
+// barycentric coordinates fall below 0 or exceed 1 (0 inside).
+double excessBarycentricDistance(const Eigen::Vector3d& b);
+// The paper's closest point P': each coordinate clamped to [0, 1], then divided by their sum.
+Eigen::Vector3d clampBarycentric(const Eigen::Vector3d& b);
+
+struct TriangleWeights {
+  int triangle = -1;                                  // -1: no triangle was eligible
+  std::array<int, 3> corners{};                       // point indices
+  Eigen::Vector3d weights = Eigen::Vector3d::Zero();  // sum 1
+  bool inside = false;  // false: the closest-triangle fallback was used
+};
+
+class TriangleInterpolator {
+ public:
+  // `triangles`: three point indices each. `depth`: one per point (empty: all 0); where
+  // triangles overlap, the one with the smallest interpolated depth wins. `tags`: one bit
+  // set per triangle (empty: all 0); a query may exclude triangles carrying given bits.
+  // Degenerate triangles (zero area) are left out.
+  TriangleInterpolator(Points2 points, std::vector<int> triangles, std::vector<double> depth = {},
+                       std::vector<std::uint8_t> tags = {});
+
+  TriangleWeights locate(const Eigen::Vector2d& p, std::uint8_t excludedTags = 0) const;
+
+  const Points2& points() const { return points_; }
+  std::span<const int> triangles() const { return triangles_; }
+  int triangleCount() const { return static_cast<int>(triangles_.size() / 3); }
+  std::uint8_t tag(int triangle) const { return tags_.empty() ? 0 : tags_[triangle]; }
+
+ private:
+  Eigen::Vector3d weightsIn(int triangle, const Eigen::Vector2d& p) const;
+  double depthAt(int triangle, const Eigen::Vector3d& b) const;
+  bool cellOf(const Eigen::Vector2d& p, int& cx, int& cy) const;
+
+  Points2 points_;
+  std::vector<int> triangles_;
+  std::vector<double> depth_;
+  std::vector<std::uint8_t> tags_;
+  std::vector<int> longTriangles_;  // edge > 4x the median: always scanned by the fallback
+  double maxEdge_ = 0;              // longest edge of the others: bounds the ring search
+  Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+  double cell_ = 1;
+  int nx_ = 0, ny_ = 0;
+  std::vector<int> cellStart_;  // CSR: triangles of cell (y * nx + x)
+  std::vector<int> cellTriangles_;
+};
+
+}  // namespace mpeg4face
