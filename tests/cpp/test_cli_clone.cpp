@@ -21,7 +21,6 @@
 #include "mpeg4face/feature_point_csv.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/gltf.hpp"
-#include "mpeg4face/obj.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/vrml.hpp"
 #include "mpeg4face/wfm.hpp"
@@ -83,20 +82,22 @@ SourceHead sourceHead() {
   return out;
 }
 
-// CANDIDE-3 scaled by kScale about a point off the origin, as OBJ: the same vertex numbers,
-// so the same feature-point CSV binds it.
+// CANDIDE-3 scaled by kScale about a point off the origin, as glTF: the same vertex numbers
+// (an OBJ would drop CANDIDE's unused vertices), so the same feature-point CSV binds it.
 std::filesystem::path writeScaledCandide(const std::filesystem::path& dir) {
   FaceModel model = readWfm(kCandideDir / "candide3.wfm").model;
   Points3& p = model.meshes[0].coord;
   p = (kScale * p).rowwise() + Eigen::RowVector3d(0.3, -0.2, 0.5);
-  const std::filesystem::path path = dir / "scaled.obj";
-  writeObj(model, path);
+  const std::filesystem::path path = dir / "scaled.glb";
+  writeGltf(model, path);
   return path;
 }
 
 std::set<std::pair<int, int>> tablesOf(const MpegFace& face) {
   std::set<std::pair<int, int>> out;
-  for (const FaceDefTables& t : face.faceDefTables) out.insert({t.fapID, t.highLevelSelect});
+  for (const FaceDefTables& t : face.faceDefTables) {
+    out.insert({t.fapID, t.fapID <= 2 ? t.highLevelSelect : 0});
+  }
   return out;
 }
 
@@ -135,20 +136,37 @@ TEST(CliClone, CandideOntoScaledCandideAndBack) {
   }
   EXPECT_EQ(outputKeys, sourceKeys);
 
-  // Motion: the source's shape key at 300, scaled.
-  for (int fap : {3, 4, 6, 12, 19, 31, 33}) {
-    const std::string name = "fap" + std::to_string(fap) + "@300";
-    const auto key = std::ranges::find_if(source.model.meshes[0].morphTargets,
-                                          [&](const MorphTarget& t) { return t.name == name; });
-    ASSERT_NE(key, source.model.meshes[0].morphTargets.end()) << name;
-    const Points3 expected = kScale * key->displacements;
+  // Motion: each shape key at 300, scaled, at every vertex a face uses. CANDIDE-3's eyeballs
+  // (the vertices of FAPs 23..30) lie behind the lids in the same mesh: the method's
+  // projection gives them the lids' motion (Pandzic's eyes are meshes of their own, moved as
+  // rigid parts), so they and their FAPs are left out.
+  std::vector<bool> compare(static_cast<size_t>(source.model.meshes[0].vertexCount()), false);
+  for (int v : source.model.meshes[0].triangles()) compare[static_cast<size_t>(v)] = true;
+  const std::set<int> eyeFaps{23, 24, 25, 26, 27, 28, 29, 30};
+  for (const MorphTarget& key : source.model.meshes[0].morphTargets) {
+    if (!key.name.starts_with("fap") || !eyeFaps.contains(std::stoi(key.name.substr(3)))) continue;
+    for (int v = 0; v < key.displacements.rows(); ++v) {
+      if (!key.displacements.row(v).isZero(0)) compare[static_cast<size_t>(v)] = false;
+    }
+  }
+  int compared = 0;
+  for (const MorphTarget& key : source.model.meshes[0].morphTargets) {
+    if (!key.name.starts_with("fap") || !key.name.ends_with("@300")) continue;
+    const int fap = std::stoi(key.name.substr(3));
+    if (eyeFaps.contains(fap)) continue;
+    const Points3 expected = kScale * key.displacements;
     FapFrame frame;
     frame.set(fap, 300);
     const Points3 got = motion(cloned.face, cloned.fapu, frame);
     const double largest = expected.rowwise().norm().maxCoeff();
-    ASSERT_GT(largest, 0) << name;
-    EXPECT_LE((got - expected).rowwise().norm().maxCoeff(), 1e-3 * largest) << name;
+    for (int v = 0; v < got.rows(); ++v) {
+      if (!compare[static_cast<size_t>(v)]) continue;
+      ++compared;
+      EXPECT_LE((got.row(v) - expected.row(v)).norm(), 1e-3 * largest)
+          << key.name << " vertex " << v << ": " << got.row(v) << ", expected " << expected.row(v);
+    }
   }
+  EXPECT_GT(compared, 40 * 90);
 
   // The result as a source (tables in glTF) onto CANDIDE-3 itself, written as .wrl; with
   // the filter and rigid parts on. Then that .wrl as a source again.
@@ -193,10 +211,13 @@ TEST(CliClone, MissingFeaturePoints) {
   EXPECT_EQ(r.status, 1) << r.out;
   EXPECT_TRUE(contains(r.out, "feature points that cloning needs: 2.1 (")) << r.out;
   // The source without its feature points: the source is named.
-  r = runCli("clone " + sourcePath.string() + " " + wfm + " --target-feature-points " +
+  FaceModel bare = sourceHead().model;
+  bare.featurePoints.clear();
+  writeGltf(bare, dir / "bare_keys.glb");
+  r = runCli("clone " + (dir / "bare_keys.glb").string() + " " + wfm + " --target-feature-points " +
              kCandideCsv + " -o " + (dir / "o.glb").string());
   EXPECT_EQ(r.status, 1) << r.out;
-  EXPECT_TRUE(contains(r.out, "candide_keys.glb")) << r.out;
+  EXPECT_TRUE(contains(r.out, "bare_keys.glb")) << r.out;
   EXPECT_TRUE(contains(r.out, "--source-feature-points")) << r.out;
 }
 
