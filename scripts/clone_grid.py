@@ -14,6 +14,7 @@ Needs Debian's python3-numpy and python3-matplotlib; run with /usr/bin/python3.
 import argparse
 import base64
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -70,9 +71,11 @@ def read_wfm(path):
         n = int(lines[i])
         rows = [lines[i + 1 + k].split() for k in range(n)]
         i += 1 + n
-        if comments[0].startswith("FAP"):
-            fap = int(comments[0][3:].split()[0])
-            units[fap] = (comments[1], [(int(r[0]), np.array(list(map(float, r[1:4])))) for r in rows])
+        named = [re.fullmatch(r"FAP\s*(\d+)\s+\w+", c) for c in comments]
+        fapu = [c for c in comments if c in ("ES", "IRISD", "ENS", "MNS", "MW")]
+        if any(named) and fapu:  # the MPEG-4 units with a linear FAPU (not the eyeballs)
+            fap = int([m for m in named if m][-1].group(1))
+            units[fap] = (fapu[0], [(int(r[0]), np.array(list(map(float, r[1:4])))) for r in rows])
     return vertices, faces, units
 
 
@@ -98,15 +101,18 @@ def write_gltf(path, vertices, faces, targets):
     morph = [{"POSITION": add(d.astype(np.float32), 34962, "VEC3", 5126, True)}
              for d in targets.values()]
     blob = b"".join(chunks)
+    mesh = {"name": "candide3",
+            "primitives": [{"attributes": {"POSITION": position}, "indices": indices}]}
+    if targets:
+        mesh["weights"] = [0.0] * len(targets)
+        mesh["extras"] = {"targetNames": list(targets)}
+        mesh["primitives"][0]["targets"] = morph
     gltf = {
         "asset": {"version": "2.0"},
         "scene": 0,
         "scenes": [{"nodes": [0]}],
         "nodes": [{"name": "candide3", "mesh": 0}],
-        "meshes": [{"name": "candide3", "weights": [0.0] * len(targets),
-                    "extras": {"targetNames": list(targets)},
-                    "primitives": [{"attributes": {"POSITION": position}, "indices": indices,
-                                    "targets": morph}]}],
+        "meshes": [mesh],
         "buffers": [{"byteLength": len(blob),
                      "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
         "bufferViews": views,
@@ -122,12 +128,11 @@ def candide_source(cli, work):
     info = json.loads(run(cli, "info", DATA / "candide3" / "candide3.wfm", "--feature-points",
                           CANDIDE_CSV, "--json"))
     unit = {name: value / 1024 for name, value in info["fapu"].items() if value}
-    unit["AU"] = 1e-5
     targets = {}
     for fap, (fapu, rows) in sorted(units.items()):
         d = np.zeros_like(vertices)
         for v, m in rows:
-            d[v] += 500 * unit[fapu + "0" if fapu != "AU" else "AU"] * m
+            d[v] += 500 * unit[fapu + "0"] * m
         targets[f"fap{fap}@500"] = d
     joy = sum(targets[f"fap{f}@500"] * w for f, w in [(12, 1.0), (13, 1.0), (6, 0.6), (7, 0.6),
                                                       (33, 0.4), (34, 0.4), (5, -0.3)])
@@ -141,7 +146,8 @@ def candide_source(cli, work):
 
 def write_variant(path, vertices, faces):
     """CANDIDE-3 made wider and shorter, subdivided twice at edge midpoints (old vertex numbers
-    kept, so CANDIDE's CSV binds it): a face of another shape and density."""
+    kept, so CANDIDE's CSV binds it): a face of another shape and density. As glTF: an OBJ
+    reader drops CANDIDE's unused vertices, and the numbers with them."""
     v = vertices * np.array([1.25, 0.9, 1.1])
     f = faces
     for _ in range(2):
@@ -160,9 +166,7 @@ def write_variant(path, vertices, faces):
             ab, bc, ca = m(a, b), m(b, c), m(c, a)
             out += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
         v, f = np.array(verts), np.array(out)
-    with open(path, "w") as fh:
-        fh.writelines(f"v {x:.6f} {y:.6f} {z:.6f}\n" for x, y, z in v)
-        fh.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in f)
+    write_gltf(path, v, f, {})
 
 
 def write_stream(path):
@@ -251,7 +255,7 @@ def main():
     cli = args.cli.resolve()
 
     vertices, faces, candide = candide_source(cli, work)
-    variant = work / "candide_variant.obj"
+    variant = work / "candide_variant.gltf"
     write_variant(variant, vertices, faces)
     # (name, neutral model, its feature points, its source face .wrl or None)
     faces_ = [("CANDIDE-3", DATA / "candide3" / "candide3.wfm", CANDIDE_CSV, candide)]
