@@ -38,26 +38,28 @@ void requireFeaturePointsAndFapu(const FaceModel& source, const FaceModel& targe
 }
 
 void requireSameTopology(const FaceModel& neutral, const DeformedCopy& copy) {
-  const auto fail = [&](const std::string& what) {
-    throw Error({}, 0, copy.name, "copy '" + copy.name + "' " + what);
+  const std::string label = "copy '" + copy.name + "'";
+  const auto fail = [&](const std::string& where, const std::string& what) {
+    throw Error({}, 0, label + where, label + where + " " + what);
   };
   if (copy.model.meshes.size() != neutral.meshes.size()) {
-    fail("has " + std::to_string(copy.model.meshes.size()) + " meshes, the source neutral " +
-         std::to_string(neutral.meshes.size()));
+    fail("", "has " + std::to_string(copy.model.meshes.size()) + " meshes, the source neutral " +
+                 std::to_string(neutral.meshes.size()));
   }
   for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
     const IndexedFaceSet& a = neutral.meshes[m];
     const IndexedFaceSet& b = copy.model.meshes[m];
+    const std::string where = " mesh '" + a.name + "'";
     if (a.vertexCount() != b.vertexCount()) {
-      fail("mesh '" + a.name + "' has " + std::to_string(b.vertexCount()) +
-           " vertices, the source neutral's " + std::to_string(a.vertexCount()));
+      fail(where, "has " + std::to_string(b.vertexCount()) + " vertices, the source neutral's " +
+                      std::to_string(a.vertexCount()));
     }
-    if (a.coordIndex != b.coordIndex)
-      fail("mesh '" + a.name + "' has other faces than the source neutral's");
+    if (a.coordIndex != b.coordIndex) fail(where, "has other faces than the source neutral's");
+    if (!b.coord.allFinite()) fail(where, "has a coordinate that is not a finite number");
   }
   if (copy.model.transforms.size() != neutral.transforms.size()) {
-    fail("has " + std::to_string(copy.model.transforms.size()) +
-         " Transforms, the source neutral " + std::to_string(neutral.transforms.size()));
+    fail("", "has " + std::to_string(copy.model.transforms.size()) +
+                 " Transforms, the source neutral " + std::to_string(neutral.transforms.size()));
   }
 }
 

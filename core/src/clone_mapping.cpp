@@ -227,10 +227,17 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   const Eigen::Index n = tgt.uv.rows();
   map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
   map.rowStart.push_back(0);
+  // A vertex that no face uses is not part of the surface: it gets no motion.
+  std::vector<bool> used(static_cast<std::size_t>(n), false);
+  for (int corner : targetSurface.triangles) used[static_cast<std::size_t>(corner)] = true;
   std::vector<std::pair<int, double>> entries;
   for (Eigen::Index t = 0; t < n; ++t) {
     if (options.progress && t % 4096 == 0)
       options.progress("mapping", 0.5 * static_cast<double>(t) / static_cast<double>(n));
+    if (!used[static_cast<std::size_t>(t)]) {
+      map.rowStart.push_back(static_cast<int>(map.source.size()));
+      continue;
+    }
     Eigen::Vector2d p = tgt.uv.row(t);
     const TriangleWeights a = alignment.locate(p);
     for (int k = 0; k < 3; ++k)

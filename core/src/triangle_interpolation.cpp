@@ -50,7 +50,6 @@ TriangleInterpolator::TriangleInterpolator(Points2 points, std::vector<int> tria
     throw Error("tag count differs from the triangle count");
   }
   // Keep the non-degenerate triangles only.
-  Eigen::AlignedBox2d box;
   std::vector<double> edges;
   for (std::size_t t = 0; t < triangles.size() / 3; ++t) {
     const int* c = &triangles[3 * t];
@@ -61,66 +60,89 @@ TriangleInterpolator::TriangleInterpolator(Points2 points, std::vector<int> tria
     if (std::isnan(barycentric2d(a, a, b, d)[0])) continue;
     triangles_.insert(triangles_.end(), c, c + 3);
     if (tagged) tags_.push_back(tags[t]);
-    box.extend(a);
-    box.extend(b);
-    box.extend(d);
+    // b1 and b2 as affine functions of p (barycentric2d's formulas, solved once).
+    const Eigen::Vector2d v0 = b - a, v1 = d - a;
+    const double den = v0.x() * v1.y() - v1.x() * v0.y();
+    const std::array<double, 6> k = {v1.y() / den,  -v1.x() / den, 0,
+                                     -v0.y() / den, v0.x() / den,  0};
+    affine_.push_back(
+        {k[0], k[1], -(k[0] * a.x() + k[1] * a.y()), k[3], k[4], -(k[3] * a.x() + k[4] * a.y())});
     edges.push_back(std::max({(b - a).norm(), (d - b).norm(), (a - d).norm()}));
   }
   const int n = triangleCount();
   if (n == 0) return;
-  // The few triangles with an edge over 4x the median are scanned by every fallback query, so
-  // that the ring search's bound uses the longest edge of the others.
-  std::vector<double> sorted = edges;
-  std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
-  const double longEdge = 4 * sorted[static_cast<std::size_t>(n / 2)];
+  const double base = *std::min_element(edges.begin(), edges.end());
+  std::vector<int> levelOf(static_cast<std::size_t>(n));
+  int levelCount = 1;
   for (int t = 0; t < n; ++t) {
-    if (edges[static_cast<std::size_t>(t)] > longEdge) {
-      longTriangles_.push_back(t);
-    } else {
-      maxEdge_ = std::max(maxEdge_, edges[static_cast<std::size_t>(t)]);
-    }
+    const int k = std::clamp(
+        static_cast<int>(std::ceil(std::log2(edges[static_cast<std::size_t>(t)] / base))), 0, 63);
+    levelOf[static_cast<std::size_t>(t)] = k;
+    levelCount = std::max(levelCount, k + 1);
   }
-  // Square cells holding about one triangle each, at most 4096 along a side.
-  const Eigen::Vector2d size = box.sizes();
-  cell_ = std::max({std::sqrt(size.x() * size.y() / n), size.maxCoeff() / 4096,
-                    1e-12 * (1 + box.max().cwiseAbs().maxCoeff())});
-  origin_ = box.min();
-  nx_ = std::max(1, static_cast<int>(std::ceil(size.x() / cell_)));
-  ny_ = std::max(1, static_cast<int>(std::ceil(size.y() / cell_)));
-  const auto cellRange = [&](int t, int& x0, int& y0, int& x1, int& y1) {
-    Eigen::AlignedBox2d b;
-    for (int k = 0; k < 3; ++k) b.extend(Eigen::Vector2d(points_.row(triangles_[3 * t + k])));
-    x0 = std::clamp(static_cast<int>(std::floor((b.min().x() - origin_.x()) / cell_)), 0, nx_ - 1);
-    y0 = std::clamp(static_cast<int>(std::floor((b.min().y() - origin_.y()) / cell_)), 0, ny_ - 1);
-    x1 = std::clamp(static_cast<int>(std::floor((b.max().x() - origin_.x()) / cell_)), 0, nx_ - 1);
-    y1 = std::clamp(static_cast<int>(std::floor((b.max().y() - origin_.y()) / cell_)), 0, ny_ - 1);
-  };
-  std::vector<int> count(static_cast<std::size_t>(nx_) * ny_ + 1, 0);
-  for (int t = 0; t < n; ++t) {
-    int x0, y0, x1, y1;
-    cellRange(t, x0, y0, x1, y1);
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) ++count[static_cast<std::size_t>(y) * nx_ + x + 1];
+  std::vector<std::vector<int>> members(static_cast<std::size_t>(levelCount));
+  for (int t = 0; t < n; ++t)
+    members[static_cast<std::size_t>(levelOf[static_cast<std::size_t>(t)])].push_back(t);
+  for (const std::vector<int>& ids : members) {
+    if (ids.empty()) continue;
+    Level& level = levels_.emplace_back();
+    Eigen::AlignedBox2d box;
+    for (int t : ids) {
+      level.maxEdge = std::max(level.maxEdge, edges[static_cast<std::size_t>(t)]);
+      for (int k = 0; k < 3; ++k)
+        box.extend(Eigen::Vector2d(points_.row(
+            triangles_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)])));
     }
-  }
-  for (std::size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
-  cellStart_ = count;
-  cellTriangles_.resize(static_cast<std::size_t>(count.back()));
-  for (int t = 0; t < n; ++t) {
-    int x0, y0, x1, y1;
-    cellRange(t, x0, y0, x1, y1);
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        cellTriangles_[static_cast<std::size_t>(count[static_cast<std::size_t>(y) * nx_ + x]++)] =
-            t;
+    // Cells of about the level's edge, at most about 4 per triangle and 4096 along a side.
+    const Eigen::Vector2d size = box.sizes();
+    const double count = static_cast<double>(ids.size());
+    level.cell = std::max({level.maxEdge, std::sqrt(size.x() * size.y() / (4 * count)),
+                           size.maxCoeff() / 4096, 1e-12 * (1 + box.max().cwiseAbs().maxCoeff())});
+    level.origin = box.min();
+    level.nx = std::max(1, static_cast<int>(std::ceil(size.x() / level.cell)));
+    level.ny = std::max(1, static_cast<int>(std::ceil(size.y() / level.cell)));
+    const auto cellRange = [&](int t, int& x0, int& y0, int& x1, int& y1) {
+      Eigen::AlignedBox2d b;
+      for (int k = 0; k < 3; ++k) {
+        b.extend(Eigen::Vector2d(points_.row(
+            triangles_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)])));
+      }
+      level.cellOf(b.min(), x0, y0);
+      level.cellOf(b.max(), x1, y1);
+    };
+    std::vector<int> start(
+        static_cast<std::size_t>(level.nx) * static_cast<std::size_t>(level.ny) + 1, 0);
+    for (int t : ids) {
+      int x0, y0, x1, y1;
+      cellRange(t, x0, y0, x1, y1);
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x)
+          ++start[static_cast<std::size_t>(y) * static_cast<std::size_t>(level.nx) +
+                  static_cast<std::size_t>(x) + 1];
+      }
+    }
+    for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    level.cellStart = start;
+    level.cellTriangles.resize(static_cast<std::size_t>(start.back()));
+    for (int t : ids) {
+      int x0, y0, x1, y1;
+      cellRange(t, x0, y0, x1, y1);
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          level.cellTriangles[static_cast<std::size_t>(
+              start[static_cast<std::size_t>(y) * static_cast<std::size_t>(level.nx) +
+                    static_cast<std::size_t>(x)]++)] = t;
+        }
       }
     }
   }
 }
 
 Eigen::Vector3d TriangleInterpolator::weightsIn(int t, const Eigen::Vector2d& p) const {
-  const int* c = &triangles_[3 * static_cast<std::size_t>(t)];
-  return barycentric2d(p, points_.row(c[0]), points_.row(c[1]), points_.row(c[2]));
+  const std::array<double, 6>& k = affine_[static_cast<std::size_t>(t)];
+  const double b1 = k[0] * p.x() + k[1] * p.y() + k[2];
+  const double b2 = k[3] * p.x() + k[4] * p.y() + k[5];
+  return {1 - b1 - b2, b1, b2};
 }
 
 double TriangleInterpolator::depthAt(int t, const Eigen::Vector3d& b) const {
@@ -129,12 +151,12 @@ double TriangleInterpolator::depthAt(int t, const Eigen::Vector3d& b) const {
   return b[0] * depth_[c[0]] + b[1] * depth_[c[1]] + b[2] * depth_[c[2]];
 }
 
-bool TriangleInterpolator::cellOf(const Eigen::Vector2d& p, int& cx, int& cy) const {
-  const double fx = std::floor((p.x() - origin_.x()) / cell_);
-  const double fy = std::floor((p.y() - origin_.y()) / cell_);
-  const bool inGrid = fx >= 0 && fx < nx_ && fy >= 0 && fy < ny_;
-  cx = static_cast<int>(std::clamp(fx, 0.0, nx_ - 1.0));
-  cy = static_cast<int>(std::clamp(fy, 0.0, ny_ - 1.0));
+bool TriangleInterpolator::Level::cellOf(const Eigen::Vector2d& p, int& cx, int& cy) const {
+  const double fx = std::floor((p.x() - origin.x()) / cell);
+  const double fy = std::floor((p.y() - origin.y()) / cell);
+  const bool inGrid = fx >= 0 && fx < nx && fy >= 0 && fy < ny;
+  cx = static_cast<int>(std::clamp(fx, 0.0, nx - 1.0));
+  cy = static_cast<int>(std::clamp(fy, 0.0, ny - 1.0));
   return inGrid;
 }
 
@@ -145,38 +167,47 @@ TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p,
   const auto eligible = [&](int t) { return (tag(t) & excludedTags) == 0; };
   const auto finish = [&](int t, const Eigen::Vector3d& b, bool inside) {
     result.triangle = t;
-    for (int k = 0; k < 3; ++k) result.corners[k] = triangles_[3 * static_cast<std::size_t>(t) + k];
+    for (int k = 0; k < 3; ++k) {
+      result.corners[static_cast<std::size_t>(k)] =
+          triangles_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)];
+    }
     result.weights = clampBarycentric(b);
     result.inside = inside;
     return result;
   };
-  int cx, cy;
-  // Inside: every triangle holding p is registered in p's cell. Where several hold it
-  // (overlap after projection), the smallest depth wins; ties go to the lowest index.
-  if (cellOf(p, cx, cy)) {
-    const std::size_t cell = static_cast<std::size_t>(cy) * nx_ + cx;
+  const auto cellTriangles = [](const Level& level, int x, int y) {
+    const std::size_t cell = static_cast<std::size_t>(y) * static_cast<std::size_t>(level.nx) +
+                             static_cast<std::size_t>(x);
+    return std::span<const int>(level.cellTriangles.data() + level.cellStart[cell],
+                                level.cellTriangles.data() + level.cellStart[cell + 1]);
+  };
+  // Inside: every triangle holding p is registered in p's cell of its level. Where several
+  // hold it (overlap after projection), the smallest depth wins; ties go to the lowest index.
+  {
     int best = -1;
     double bestDepth = 0;
     Eigen::Vector3d bestB;
     constexpr double kOnEdge = -1e-12;
-    for (int i = cellStart_[cell]; i < cellStart_[cell + 1]; ++i) {
-      const int t = cellTriangles_[static_cast<std::size_t>(i)];
-      if (!eligible(t)) continue;
-      const Eigen::Vector3d b = weightsIn(t, p);
-      if (b.minCoeff() < kOnEdge) continue;
-      const double d = depthAt(t, b);
-      if (best < 0 || d < bestDepth || (d == bestDepth && t < best)) {
-        best = t;
-        bestDepth = d;
-        bestB = b;
+    for (const Level& level : levels_) {
+      int cx, cy;
+      if (!level.cellOf(p, cx, cy)) continue;
+      for (int t : cellTriangles(level, cx, cy)) {
+        if (!eligible(t)) continue;
+        const Eigen::Vector3d b = weightsIn(t, p);
+        if (b.minCoeff() < kOnEdge) continue;
+        const double d = depthAt(t, b);
+        if (best < 0 || d < bestDepth || (d == bestDepth && t < best)) {
+          best = t;
+          bestDepth = d;
+          bestB = b;
+        }
       }
     }
     if (best >= 0) return finish(best, bestB, true);
   }
   // Outside: the smallest excess barycentric distance e. A triangle at Euclidean distance D
-  // from p has e >= D / (2 * its longest edge) (docs/clone.md), so after the long triangles
-  // the rings of cells around p stop once the cells not yet searched are too far to hold a
-  // better triangle.
+  // from p has e >= D / (2 * its longest edge) (docs/clone.md), so on each level the rings of
+  // cells around p stop once the cells not yet searched are too far to hold a better one.
   int best = -1;
   double bestE = std::numeric_limits<double>::infinity();
   Eigen::Vector3d bestB;
@@ -190,27 +221,40 @@ TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p,
       bestB = b;
     }
   };
-  for (int t : longTriangles_) consider(t);
-  for (int r = 0;; ++r) {
-    if (r > 0) {
-      double bound = std::numeric_limits<double>::infinity();
-      if (cx - r + 1 > 0) bound = std::min(bound, p.x() - (origin_.x() + (cx - r + 1) * cell_));
-      if (cx + r - 1 < nx_ - 1) bound = std::min(bound, origin_.x() + (cx + r) * cell_ - p.x());
-      if (cy - r + 1 > 0) bound = std::min(bound, p.y() - (origin_.y() + (cy - r + 1) * cell_));
-      if (cy + r - 1 < ny_ - 1) bound = std::min(bound, origin_.y() + (cy + r) * cell_ - p.y());
-      if (std::isinf(bound)) break;  // the whole grid is searched
-      if (best >= 0 && 2 * maxEdge_ * bestE <= std::max(bound, 0.0)) break;
-    }
+  const auto ring = [&](const Level& level, int cx, int cy, int r) {
     for (int y = cy - r; y <= cy + r; ++y) {
-      if (y < 0 || y >= ny_) continue;
+      if (y < 0 || y >= level.ny) continue;
       const bool edgeRow = y == cy - r || y == cy + r;
       for (int x = cx - r; x <= cx + r; x += (edgeRow || r == 0) ? 1 : 2 * r) {
-        if (x < 0 || x >= nx_) continue;
-        const std::size_t cell = static_cast<std::size_t>(y) * nx_ + x;
-        for (int i = cellStart_[cell]; i < cellStart_[cell + 1]; ++i) {
-          consider(cellTriangles_[static_cast<std::size_t>(i)]);
-        }
+        if (x < 0 || x >= level.nx) continue;
+        for (int t : cellTriangles(level, x, y)) consider(t);
       }
+    }
+  };
+  // Each level's own cell first, so that the bound below starts from a near triangle.
+  for (const Level& level : levels_) {
+    int cx, cy;
+    level.cellOf(p, cx, cy);
+    ring(level, cx, cy, 0);
+  }
+  for (const Level& level : levels_) {
+    int cx, cy;
+    level.cellOf(p, cx, cy);
+    for (int r = 1;; ++r) {
+      // Cells outside the square searched so far lie beyond one of its sides that is not
+      // the grid's edge: p is at least `bound` from all of them.
+      const double left = level.origin.x() + (cx - r + 1) * level.cell;
+      const double right = level.origin.x() + (cx + r) * level.cell;
+      const double bottom = level.origin.y() + (cy - r + 1) * level.cell;
+      const double top = level.origin.y() + (cy + r) * level.cell;
+      double bound = std::numeric_limits<double>::infinity();
+      if (cx - r + 1 > 0) bound = std::min(bound, p.x() - left);
+      if (cx + r - 1 < level.nx - 1) bound = std::min(bound, right - p.x());
+      if (cy - r + 1 > 0) bound = std::min(bound, p.y() - bottom);
+      if (cy + r - 1 < level.ny - 1) bound = std::min(bound, top - p.y());
+      if (std::isinf(bound)) break;  // the whole level is searched
+      if (best >= 0 && 2 * level.maxEdge * bestE <= std::max(bound, 0.0)) break;
+      ring(level, cx, cy, r);
     }
   }
   if (best < 0) return result;

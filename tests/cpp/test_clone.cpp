@@ -1,2 +1,283 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <tuple>
+
+#include "mpeg4face/clone.hpp"
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/feature_point_csv.hpp"
+#include "mpeg4face/obj.hpp"
+#include "mpeg4face/spec.hpp"
+#include "mpeg4face/wfm.hpp"
+#include "test_support.hpp"
+
+using namespace mpeg4face;
+using mpeg4face::test::errorOf;
+
+namespace {
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+struct Candide {
+  CandideModel file;
+  FaceModel neutral;
+};
+
+Candide candide() {
+  const std::filesystem::path dir = mpeg4face::test::kData / "candide3";
+  Candide c{readWfm(dir / "candide3.wfm"), {}};
+  c.neutral = c.file.model;
+  c.neutral.featurePoints =
+      readFeaturePointCsv(dir / "feature_points.csv", c.neutral).featurePoints;
+  return c;
+}
+
+// CANDIDE's MPEG-4 action units as copies at `amplitude`, moved as the file says (a unit's
+// displacement is in its FAPU: docs/fat.md).
+std::vector<DeformedCopy> candideCopies(const Candide& c, int amplitude) {
+  const FapuMeasurement fapu = measureFapu(c.neutral);
+  std::vector<DeformedCopy> copies;
+  for (const CandideUnit& u : c.file.animationUnits) {
+    if (u.fap == 0) continue;
+    double unit = fapu.unit(fapInfo(u.fap).fapu);
+    for (const FapuInfo& info : fapuTable()) {
+      if (info.name == u.fapu) unit = fapu.unit(info.kind);
+    }
+    DeformedCopy& copy = copies.emplace_back();
+    copy.name = u.name;
+    copy.fapID = u.fap;
+    copy.amplitude = amplitude;
+    copy.model = c.neutral;
+    for (std::size_t i = 0; i < u.vertices.size(); ++i) {
+      copy.model.meshes[0].coord.row(u.vertices[i]) +=
+          amplitude * unit * u.displacements.row(static_cast<Eigen::Index>(i));
+    }
+  }
+  return copies;
+}
+
+const DeformedCopy& copyOf(std::span<const DeformedCopy> copies, int fap) {
+  return *std::find_if(copies.begin(), copies.end(),
+                       [&](const DeformedCopy& c) { return c.fapID == fap; });
+}
+
+Points3 motionOf(const DeformedCopy& copy, const FaceModel& neutral, int mesh = 0) {
+  return copy.model.meshes[static_cast<std::size_t>(mesh)].coord -
+         neutral.meshes[static_cast<std::size_t>(mesh)].coord;
+}
+
+double maxRowNorm(const Points3& p) { return p.rows() == 0 ? 0.0 : p.rowwise().norm().maxCoeff(); }
+
+}  // namespace
+
+TEST(Clone, MappingDoesNotNeedEyeCentres) {
+  const auto ids = cloneFeaturePoints();
+  for (const char* rigidOnly : {"3.5", "3.6", "7.2"}) {
+    EXPECT_EQ(std::find(ids.begin(), ids.end(), rigidOnly), ids.end()) << rigidOnly;
+  }
+  const Candide c = candide();
+  EXPECT_FALSE(c.neutral.featurePointPosition("3.5"));
+  EXPECT_TRUE(missingCloneFeaturePoints(c.neutral).empty());
+}
+
+// The vertices of CANDIDE's eyeballs and pupils (those FAPs 23-30 move): the method moves eyes
+// as rigid parts (separate meshes in the paper's faces, clone_rigid.hpp); in CANDIDE's single
+// mesh they lie under the eyelids, whose motion the smallest-depth rule gives them.
+std::vector<bool> eyeballVertices(const Candide& c) {
+  std::vector<bool> eye(static_cast<std::size_t>(c.neutral.meshes[0].vertexCount()), false);
+  for (const CandideUnit& u : c.file.animationUnits) {
+    if (u.fap < 23 || u.fap > 30) continue;
+    for (int v : u.vertices) eye[static_cast<std::size_t>(v)] = true;
+  }
+  return eye;
+}
+
+// Quality (a): a head cloned onto itself gets its own motion back (the eyeballs aside).
+TEST(Clone, CloningAHeadOntoItselfReproducesItsMotion) {
+  const Candide c = candide();
+  const auto eye = eyeballVertices(c);
+  std::vector<DeformedCopy> copies;
+  for (DeformedCopy& copy : candideCopies(c, 600)) {
+    if (copy.fapID < 23 || copy.fapID > 30) copies.push_back(std::move(copy));
+  }
+  ASSERT_EQ(copies.size(), 46u);
+  const auto withoutEyes = [&](Points3 p) {
+    for (Eigen::Index v = 0; v < p.rows(); ++v) {
+      if (eye[static_cast<std::size_t>(v)]) p.row(v).setZero();
+    }
+    return p;
+  };
+  for (double support : {0.0, 0.02}) {
+    CloneOptions options;
+    options.filterSupport = support;
+    const CloneResult r = cloneDeformedCopies(c.neutral, copies, c.neutral, options);
+    ASSERT_EQ(r.copies.size(), copies.size());
+    double worst = 0;
+    for (std::size_t i = 0; i < copies.size(); ++i) {
+      EXPECT_EQ(r.copies[i].name, copies[i].name);
+      EXPECT_EQ(r.copies[i].fapID, copies[i].fapID);
+      EXPECT_EQ(r.copies[i].amplitude, copies[i].amplitude);
+      const Points3 expected = withoutEyes(motionOf(copies[i], c.neutral));
+      const double error = maxRowNorm(withoutEyes(motionOf(r.copies[i], c.neutral)) - expected);
+      worst = std::max(worst, error / maxRowNorm(expected));
+      if (support > 0)
+        std::printf("  %s %.3f%%\n", copies[i].name.c_str(), 100 * error / maxRowNorm(expected));
+      if (support == 0) {
+        EXPECT_LE(error, 0.01 * maxRowNorm(expected)) << copies[i].name;
+      }
+    }
+    std::printf("filter support %.2f: worst error %.3f%% of the copy's largest displacement\n",
+                support, 100 * worst);
+  }
+}
+
+// Quality (b): onto a uniformly scaled copy every motion scales by the same factor, whether
+// the scale is in the vertices or in the Transform above them (motion in the mesh's frame).
+TEST(Clone, CloningOntoAScaledCopyScalesTheMotion) {
+  const Candide c = candide();
+  const auto copies = candideCopies(c, 500);
+  const double s = 2.5;
+  FaceModel scaled = c.neutral;
+  scaled.meshes[0].coord *= s;
+  const CloneResult a = cloneDeformedCopies(c.neutral, copies, scaled);
+  FaceModel transformed = c.neutral;
+  transformed.transforms[static_cast<std::size_t>(transformed.roots[0])].scale.setConstant(s);
+  transformed.transforms[static_cast<std::size_t>(transformed.roots[0])].translation = {1, -2, 3};
+  const CloneResult b = cloneDeformedCopies(c.neutral, copies, transformed);
+  const CloneResult same = cloneDeformedCopies(c.neutral, copies, c.neutral);
+  for (std::size_t i = 0; i < copies.size(); ++i) {
+    const Points3 reference = motionOf(same.copies[i], c.neutral);
+    const double tolerance = 1e-9 * (1 + maxRowNorm(reference));
+    EXPECT_LE(maxRowNorm(motionOf(a.copies[i], scaled) - s * reference), s * tolerance)
+        << copies[i].name;
+    EXPECT_LE(maxRowNorm(motionOf(b.copies[i], transformed) - reference), tolerance)
+        << copies[i].name;
+    EXPECT_GT(maxRowNorm(reference), 0) << copies[i].name;
+  }
+}
+
+// The lip rule: on CANDIDE's closed mouth the inner upper lip (2.2) and inner lower lip (2.3)
+// are two vertices at one place; CANDIDE's FAP 4 moves 2.2 only, FAP 5 2.3 only.
+TEST(Clone, LipRegionsAreKeptApart) {
+  const Candide c = candide();
+  const auto copies = candideCopies(c, 800);
+  const int upper = c.neutral.featurePoints.at("2.2").vertex;
+  const int lower = c.neutral.featurePoints.at("2.3").vertex;
+  ASSERT_EQ(c.neutral.meshes[0].coord.row(upper), c.neutral.meshes[0].coord.row(lower));
+  // A target whose lips are slightly apart, so that the two are not matched trivially.
+  FaceModel target = c.neutral;
+  target.meshes[0].coord(upper, 1) += 0.002;
+  target.meshes[0].coord(lower, 1) -= 0.002;
+  const CloneResult kept = cloneDeformedCopies(c.neutral, copies, target);
+  CloneOptions mixedOptions;
+  mixedOptions.separateLips = false;
+  const CloneResult mixed = cloneDeformedCopies(c.neutral, copies, target, mixedOptions);
+  for (const auto& [fap, moving, still] :
+       {std::tuple{4, upper, lower}, std::tuple{5, lower, upper}}) {
+    const Points3 source = motionOf(copyOf(copies, fap), c.neutral);
+    const double size = source.row(moving).norm();
+    ASSERT_GT(size, 0);
+    ASSERT_EQ(source.row(still).norm(), 0);
+    const Points3 motion = motionOf(copyOf(kept.copies, fap), target);
+    EXPECT_GT(motion.row(moving).norm(), 0.8 * size) << fap;
+    EXPECT_LT(motion.row(still).norm(), 0.05 * size) << fap;
+    // Without the rule the lip that should stay is pulled along.
+    EXPECT_GT(motionOf(copyOf(mixed.copies, fap), target).row(still).norm(), 0.05 * size) << fap;
+  }
+}
+
+// Quality (c): CANDIDE-3 onto the MakeHuman head. open_jaw moves 2.1 down by the same number
+// of MNS units on both faces; the forehead stays.
+TEST(Clone, OpenJawOntoMakeHumanMovesTheChinByFapuAndLeavesTheForehead) {
+  const std::filesystem::path dir = mpeg4face::test::kData / "makehuman";
+  if (!std::filesystem::exists(dir / "feature_points.csv")) {
+    GTEST_SKIP() << "tests/data/makehuman/feature_points.csv not there yet";
+  }
+  const Candide c = candide();
+  std::vector<DeformedCopy> copies = candideCopies(c, 512);
+  copies = {copyOf(copies, 3)};
+  FaceModel human = readObj(dir / "base.obj");
+  human.featurePoints = readFeaturePointCsv(dir / "feature_points.csv", human).featurePoints;
+  ASSERT_EQ(missingCloneFeaturePoints(human), std::vector<std::string>{});
+  const CloneResult r = cloneDeformedCopies(c.neutral, copies, human);
+  const FapuMeasurement sourceFapu = measureFapu(c.neutral), targetFapu = measureFapu(human);
+  const double sourceDrop =
+      motionOf(copies[0], c.neutral)(c.neutral.featurePoints.at("2.1").vertex, 1);
+  const double expected = sourceDrop / sourceFapu.MNS0.value * targetFapu.MNS0.value;
+  ASSERT_LT(expected, 0);
+  const FeaturePointBinding chin = human.featurePoints.at("2.1");
+  const double drop = motionOf(r.copies[0], human, chin.mesh)(chin.vertex, 1);
+  std::printf("2.1 moves %.5f, FAPU-scaled source motion %.5f (%.1f%%)\n", drop, expected,
+              100 * drop / expected);
+  EXPECT_NEAR(drop, expected, 0.1 * std::abs(expected));
+  // The forehead: vertices above the eyebrows' top, between the outer brow corners, in front
+  // of the eye corners.
+  const Eigen::Vector3d brow = *human.featurePointPosition("4.3");
+  const Eigen::Vector3d leftBrow = *human.featurePointPosition("4.5");
+  const Eigen::Vector3d rightBrow = *human.featurePointPosition("4.6");
+  const Eigen::Vector3d hair = *human.featurePointPosition("11.3");
+  const double frontZ = human.featurePointPosition("3.7")->z();
+  const auto world = human.meshWorldMatrices();
+  int forehead = 0;
+  double moved = 0;
+  for (std::size_t m = 0; m < human.meshes.size(); ++m) {
+    const Points3 motion = motionOf(r.copies[0], human, static_cast<int>(m));
+    for (int v = 0; v < human.meshes[m].vertexCount(); ++v) {
+      const Eigen::Vector3d p = world[m] * human.meshes[m].coord.row(v).transpose();
+      if (p.y() > brow.y() + 0.1 * (hair.y() - brow.y()) && p.y() < hair.y() && p.z() > frontZ &&
+          p.x() < std::max(leftBrow.x(), rightBrow.x()) &&
+          p.x() > std::min(leftBrow.x(), rightBrow.x())) {
+        ++forehead;
+        moved = std::max(moved, motion.row(v).norm());
+      }
+    }
+  }
+  std::printf("forehead: %d vertices, largest motion %.2e\n", forehead, moved);
+  EXPECT_GT(forehead, 20);
+  EXPECT_LT(moved, 0.01 * std::abs(expected));
+}
+
+TEST(Clone, MissingFeaturePointsAreAllListed) {
+  const Candide c = candide();
+  FaceModel source = c.neutral, target = c.neutral;
+  source.featurePoints.erase("2.1");
+  source.featurePoints.erase("3.1");
+  target.featurePoints.erase("9.12");
+  const auto copies = candideCopies(c, 300);
+  EXPECT_EQ(missingCloneFeaturePoints(source), (std::vector<std::string>{"2.1", "3.1"}));
+  const std::string message = errorOf([&] { cloneDeformedCopies(source, copies, target); }).what();
+  EXPECT_TRUE(contains(message, "source face lacks feature points 2.1, 3.1")) << message;
+  EXPECT_TRUE(contains(message, "target face lacks feature points 9.12")) << message;
+}
+
+TEST(Clone, ACopyOfOtherTopologyIsNamed) {
+  const Candide c = candide();
+  auto copies = candideCopies(c, 300);
+  copies[4].name = "broken shape";
+  copies[4].model.meshes[0].coord.conservativeResize(100, 3);
+  Error e = errorOf([&] { cloneDeformedCopies(c.neutral, copies, c.neutral); });
+  EXPECT_EQ(e.field(), "copy 'broken shape' mesh 'candide3'");
+  EXPECT_TRUE(contains(e.what(), "100 vertices")) << e.what();
+  copies = candideCopies(c, 300);
+  copies[2].name = "nan shape";
+  copies[2].model.meshes[0].coord(5, 0) = NAN;
+  e = errorOf([&] { cloneDeformedCopies(c.neutral, copies, c.neutral); });
+  EXPECT_EQ(e.field(), "copy 'nan shape' mesh 'candide3'");
+}
+
+TEST(Clone, CloneFaceMakesTablesThatReproduceTheCopies) {
+  const Candide c = candide();
+  const auto copies = candideCopies(c, 400);
+  FaceModel scaled = c.neutral;
+  scaled.meshes[0].coord *= 1.7;
+  const ClonedFace f = cloneFace(c.neutral, copies, scaled);
+  EXPECT_EQ(f.copies.size(), copies.size());
+  EXPECT_EQ(f.face.faceDefTables.size(), copies.size());
+  EXPECT_EQ(f.face.faceSceneGraph.meshes[0].coord, scaled.meshes[0].coord);
+}

@@ -49,21 +49,27 @@ class TriangleInterpolator {
   std::uint8_t tag(int triangle) const { return tags_.empty() ? 0 : tags_[triangle]; }
 
  private:
+  // Triangles whose longest edge is in (base * 2^(k-1), base * 2^k], on a grid of their own
+  // with cells of about that size: the fallback's bound then stays a few cells wide for
+  // meshes whose triangle sizes vary a lot.
+  struct Level {
+    double maxEdge = 0;
+    double cell = 1;
+    Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+    int nx = 0, ny = 0;
+    std::vector<int> cellStart;  // CSR: triangles of cell (y * nx + x)
+    std::vector<int> cellTriangles;
+    bool cellOf(const Eigen::Vector2d& p, int& cx, int& cy) const;
+  };
   Eigen::Vector3d weightsIn(int triangle, const Eigen::Vector2d& p) const;
   double depthAt(int triangle, const Eigen::Vector3d& b) const;
-  bool cellOf(const Eigen::Vector2d& p, int& cx, int& cy) const;
 
   Points2 points_;
   std::vector<int> triangles_;
   std::vector<double> depth_;
   std::vector<std::uint8_t> tags_;
-  std::vector<int> longTriangles_;  // edge > 4x the median: always scanned by the fallback
-  double maxEdge_ = 0;              // longest edge of the others: bounds the ring search
-  Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
-  double cell_ = 1;
-  int nx_ = 0, ny_ = 0;
-  std::vector<int> cellStart_;  // CSR: triangles of cell (y * nx + x)
-  std::vector<int> cellTriangles_;
+  std::vector<std::array<double, 6>> affine_;  // per triangle: b1, b2 = k0 x + k1 y + k2, ...
+  std::vector<Level> levels_;
 };
 
 }  // namespace mpeg4face
