@@ -27,12 +27,14 @@ ROOT = Path(__file__).resolve().parent.parent
 DATA = ROOT / "tests" / "data"
 CANDIDE_CSV = DATA / "candide3" / "feature_points.csv"
 MAKEHUMAN_CSV = DATA / "makehuman" / "feature_points.csv"
+VISIBLE_HELPERS = {"helper-l-eye", "helper-r-eye", "helper-upper-teeth", "helper-lower-teeth",
+                   "helper-tongue"}
 
 # The columns of the picture: (title, {FAP: value} sent alone in one frame; "expression" is
 # FAP 2: (select, intensity)).
 SHAPES = [
     ("open_jaw (FAP 3 = 700)", {3: 700}),
-    ("stretch lip corners (FAP 6, 7 = 400)", {6: 400, 7: 400}),
+    ("stretch lip corners (FAP 6, 7 = 800)", {6: 800, 7: 800}),
     ("raise eyebrows (FAP 31-36 = 300)", {31: 300, 32: 300, 33: 300, 34: 300, 35: 300, 36: 300}),
     ("joy (expression 1 at 63)", {2: (1, 63)}),
 ]
@@ -134,8 +136,8 @@ def candide_source(cli, work):
         for v, m in rows:
             d[v] += 500 * unit[fapu + "0"] * m
         targets[f"fap{fap}@500"] = d
-    joy = sum(targets[f"fap{f}@500"] * w for f, w in [(12, 1.0), (13, 1.0), (6, 0.6), (7, 0.6),
-                                                      (33, 0.4), (34, 0.4), (5, -0.3)])
+    joy = sum(targets[f"fap{f}@500"] * w for f, w in [(12, 2.0), (13, 2.0), (6, 1.2), (7, 1.2),
+                                                      (33, 0.6), (34, 0.6), (5, -0.4)])
     targets["expression1_joy"] = joy
     keys = work / "candide_keys.gltf"
     write_gltf(keys, vertices, faces, targets)
@@ -193,7 +195,8 @@ def write_stream(path):
 
 
 def read_obj(path):
-    """Vertices and triangles of an OBJ from `apply`, without MakeHuman's helper meshes."""
+    """Vertices and triangles of an OBJ from `apply`, without MakeHuman's helper meshes (joints,
+    tights, hair, eyelashes...) but with its eyes, teeth and tongue."""
     vertices, triangles, skip = [], [], False
     for line in path.read_text().splitlines():
         parts = line.split()
@@ -201,13 +204,26 @@ def read_obj(path):
             continue
         if parts[0] == "o" or parts[0] == "g":
             name = parts[1] if len(parts) > 1 else ""
-            skip = name.startswith(("helper", "joint")) or "proxy" in name
+            skip = name.startswith(("helper", "joint")) and name not in VISIBLE_HELPERS
         elif parts[0] == "v":
             vertices.append([float(x) for x in parts[1:4]])
         elif parts[0] == "f" and not skip:
             idx = [int(p.split("/")[0]) - 1 for p in parts[1:]]
             triangles += [(idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1)]
     return np.array(vertices), np.array(triangles)
+
+
+def feature_points(wrl):
+    """The bound feature points of a face we wrote (FDP featurePointsCoord, docs/vrml.md)."""
+    lines = wrl.read_text().splitlines()
+    i = next(k for k, l in enumerate(lines) if "featurePointsCoord Coordinate" in l) + 2
+    points = []
+    while not lines[i].strip().startswith("]"):
+        values, _, comment = lines[i].partition("#")
+        if "none" not in comment:
+            points.append([float(x) for x in values.replace(",", " ").split()])
+        i += 1
+    return np.array(points)
 
 
 def draw(ax, vertices, triangles, motion, view, scale):
@@ -226,7 +242,7 @@ def draw(ax, vertices, triangles, motion, view, scale):
     order = np.argsort(tri[:, :, 2].mean(axis=1))  # far first: painter's algorithm
     heat = cm.inferno(np.clip(moved / scale, 0, 1) * 0.85 + 0.1)[:, :3]
     skin = np.array([0.86, 0.80, 0.74])
-    amount = np.clip(moved / scale, 0, 1)[:, None] ** 0.7
+    amount = np.clip(moved / scale, 0, 1)[:, None] ** 0.5
     colour = (skin * (1 - amount) + heat * amount) * shade[:, None]
     ax.add_collection(PolyCollection(tri[order][:, :, :2], facecolors=colour[order],
                                      edgecolors="none", antialiased=False))
@@ -261,7 +277,7 @@ def main():
     faces_ = [("CANDIDE-3", DATA / "candide3" / "candide3.wfm", CANDIDE_CSV, candide)]
     if MAKEHUMAN_CSV.exists():
         faces_.append(("MakeHuman", DATA / "makehuman" / "base.obj", MAKEHUMAN_CSV, None))
-    faces_.append(("CANDIDE-3 wide, 16x denser", variant, CANDIDE_CSV, None))
+    faces_.append(("CANDIDE-3 wide, x16", variant, CANDIDE_CSV, None))
     # The other faces' own motion: cloned from CANDIDE-3 (the only face with sculpted units).
     for k, (name, model, csv, source) in enumerate(faces_):
         if source is None:
@@ -290,19 +306,20 @@ def main():
             neutral = objs[-1][0]
             frames[i][j] = [(v, t, np.linalg.norm(v - neutral, axis=1)) for v, t in objs[:-1]]
 
-    # The view of each target column: the region that moves in any shape, widened.
+    # The view of each target column: its feature points (the face, not a body below it).
     views = []
-    for j in range(n):
-        pts = np.concatenate([v[m > 1e-9 * np.abs(v).max()] for i in range(n)
-                              for v, _, m in frames[i][j]])
+    for _, _, _, face in faces_:
+        pts = feature_points(face)
         lo, hi = pts.min(axis=0), pts.max(axis=0)
-        centre, half = (lo + hi) / 2, (hi - lo)[:2].max() / 2 * 1.35
+        # Widened, and lowered a little: the jaw opens below the chin point.
+        centre, half = (lo + hi) / 2, (hi - lo)[:2].max() / 2 * 1.25
+        centre[1] -= 0.1 * half
         views.append(((centre[0] - half, centre[1] - half), (centre[0] + half, centre[1] + half)))
 
     blocks = len(SHAPES)
     cols = 2
     rows = (blocks + cols - 1) // cols
-    fig = plt.figure(figsize=(cols * n * 2.1 + 0.4, rows * (n * 2.1 + 0.6)), dpi=100)
+    fig = plt.figure(figsize=(cols * n * 2.1 + 0.4, rows * (n * 2.1 + 0.6)), dpi=110)
     outer = fig.add_gridspec(rows, cols, wspace=0.06, hspace=0.12)
     for b, (title, _) in enumerate(SHAPES):
         inner = outer[b // cols, b % cols].subgridspec(n, n, wspace=0.02, hspace=0.02)

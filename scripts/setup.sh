@@ -10,7 +10,7 @@ packages=(
   cmake make g++ clang libclang-rt-14-dev   # build, sanitizers, libFuzzer
   libeigen3-dev libtinygltf-dev nlohmann-json3-dev libgtest-dev
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
-  python3-matplotlib                        # rate-distortion plots (scripts/rd_plot.py)
+  python3-matplotlib                        # rate-distortion plots (scripts/rd_plot.py), clone grid (scripts/clone_grid.py)
   blender xvfb xauth                        # the add-on, headless and under a virtual display
   nodejs npm                                # gltf-validator
   view3dscene                               # tovrmlx3d, a third-party VRML97 reader for our .wrl

@@ -184,6 +184,37 @@ TEST(CliClone, CandideOntoScaledCandideAndBack) {
   EXPECT_EQ(tablesOf(readVrml(again)), source.tables);
 }
 
+TEST(CliClone, CandideOntoMakeHuman) {
+  const std::filesystem::path dir = mpeg4face::test::scratchDir();
+  const SourceHead source = sourceHead();
+  const std::filesystem::path sourcePath = dir / "candide_keys.glb";
+  writeGltf(source.model, sourcePath);
+  const std::filesystem::path makehuman = mpeg4face::test::kData / "makehuman";
+  const std::filesystem::path out = dir / "makehuman_clone.glb";
+  const auto r = runCli("clone " + sourcePath.string() + " " + (makehuman / "base.obj").string() +
+                        " --target-feature-points " + (makehuman / "feature_points.csv").string() +
+                        " -o " + out.string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  const FatGltf cloned = readFatGltf(out);
+  EXPECT_EQ(tablesOf(cloned.face), source.tables);
+  // open_jaw: CANDIDE-3's unit moves the chin (2.1) straight down by 1 MNS unit per FAP
+  // unit; cloned, the MakeHuman chin goes down by about 300 of its own MNS units.
+  const FeaturePointBinding chin = cloned.face.faceSceneGraph.featurePoints.at("2.1");
+  ASSERT_GE(chin.mesh, 0);
+  FapFrame frame;
+  frame.set(3, 300);
+  const FatEvaluator evaluator(cloned.face, cloned.fapu);
+  const FatState state = evaluator.evaluate(frame);
+  const Eigen::Vector3d moved =
+      cloned.face.faceSceneGraph.meshWorldMatrices()[static_cast<size_t>(chin.mesh)].linear() *
+      (state.coord[static_cast<size_t>(chin.mesh)].row(chin.vertex) -
+       cloned.face.faceSceneGraph.meshes[static_cast<size_t>(chin.mesh)].coord.row(chin.vertex))
+          .transpose();
+  const double expected = 300 * cloned.fapu.MNS0.value / 1024;
+  EXPECT_NEAR(moved.y(), -expected, 0.25 * expected) << moved.transpose();
+  EXPECT_LE(std::hypot(moved.x(), moved.z()), 0.25 * expected) << moved.transpose();
+}
+
 TEST(CliClone, MissingFeaturePoints) {
   const std::filesystem::path dir = mpeg4face::test::scratchDir();
   const std::filesystem::path sourcePath = dir / "candide_keys.glb";
