@@ -289,8 +289,7 @@ def pick(V, G):
     put("9.7", nose_top, "front vertex at x = 3.11.x / 2, y = 3.11.y (side of the nose root)")
     bone_y = (V[nose_top, 1] + V[profile[tip], 1]) / 2
     put("9.12", profile[int(np.argmin(np.abs(y[:tip + 1] - bone_y)))], "midline profile vertex at y = (9.6.y + 9.3.y) / 2")
-    put("9.13", front_vertex(body, V[nose_top, 0], bone_y, x_weight=0.25),
-        "front vertex at x = 9.7.x, y = (9.7.y + 9.3.y) / 2 (y preferred)")
+    put("9.13", front_vertex(body, V[nose_top, 0], bone_y), "front vertex at x = 9.7.x, y = (9.7.y + 9.3.y) / 2")
     # The nose wing (ala): the vertex furthest out in x among those facing sideways (normal
     # x > 0.6) between the subnasale and the nose tip, within 0.25 of the midline.
     wing = body.vertices[(V[body.vertices, 0] > 0) & (V[body.vertices, 0] < 0.25)
@@ -367,6 +366,7 @@ def pick(V, G):
              "10.7": "10.8", "10.9": "10.10", "11.3": "11.2"}
     for left, right in pairs.items():
         where, rule = fp[left]
+        assert abs(V[where, 0]) > 1e-6, f"{left} is on the midline"
         if right in fp:
             assert fp[right][0] == mirror(V, where), f"{right} is not the mirror of {left}"
         else:

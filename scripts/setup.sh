@@ -9,6 +9,7 @@ cd "$(dirname "$0")/.."
 packages=(
   cmake make g++ clang libclang-rt-14-dev   # build, sanitizers, libFuzzer
   libeigen3-dev libtinygltf-dev nlohmann-json3-dev libgtest-dev
+  libopenmesh-dev                           # mesh_resample: decimation and subdivision
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
   python3-matplotlib                        # rate-distortion plots (scripts/rd_plot.py), clone grid (scripts/clone_grid.py)
   blender xvfb xauth                        # the add-on, headless and under a virtual display
