@@ -4,6 +4,7 @@
 #include "mpeg4face/clone.hpp"
 
 #include "clone_internal.hpp"
+#include "mpeg4face/clone_rigid.hpp"
 #include "mpeg4face/error.hpp"
 
 namespace mpeg4face {
@@ -81,11 +82,18 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
 
   CloneResult result;
   result.targetNeutral = targetNeutral;
-  // The rigid parts (clone_rigid.hpp) are where eyes, teeth, tongue and head motion go; until
-  // they are wired every mesh is part of the one surface.
-  const std::vector<int> sourceRigid, targetRigid;
-  const clone::Surface sourceSurface = clone::gatherSurface(sourceNeutral, sourceRigid);
-  const clone::Surface targetSurface = clone::gatherSurface(result.targetNeutral, targetRigid);
+  // Eyes, teeth and tongue move as rigid parts (clone_rigid.hpp), the head by its Transform;
+  // every other mesh is part of the one surface whose vertex motion is mapped.
+  RigidPartMap rigid;
+  if (options.rigidParts) {
+    rigid = matchRigidParts(sourceNeutral, sourceCopies, result.targetNeutral);
+    result.warnings = rigid.warnings;
+  }
+  const FapuMeasurement sourceFapu = measureFapu(sourceNeutral);
+  const FapuMeasurement targetFapu = measureFapu(result.targetNeutral);
+  const clone::Surface sourceSurface = clone::gatherSurface(sourceNeutral, rigid.sourceRigidMeshes);
+  const clone::Surface targetSurface =
+      clone::gatherSurface(result.targetNeutral, rigid.targetRigidMeshes);
   const clone::Mapping map = clone::buildMapping(sourceNeutral, sourceSurface, result.targetNeutral,
                                                  targetSurface, options);
 
@@ -114,6 +122,8 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
     to.highLevelSelect = from.highLevelSelect;
     to.amplitude = from.amplitude;
     to.model = result.targetNeutral;
+    if (options.rigidParts)
+      cloneRigidMotion(rigid, sourceNeutral, sourceFapu, from, targetFapu, to.model);
     for (std::size_t t = 0; t + 1 < map.rowStart.size(); ++t) {
       Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
       for (int i = map.rowStart[t]; i < map.rowStart[t + 1]; ++i) {

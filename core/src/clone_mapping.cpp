@@ -249,9 +249,18 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     for (const Eigen::Vector2d& offset : samples) {
       const TriangleWeights w = motion.locate(p + offset, excluded);
       if (w.triangle < 0) continue;
+      // Beyond the source's surface the motion fades out over outsideFalloff (ours).
+      double fade = 1;
+      if (!w.inside && options.outsideFalloff > 0) {
+        Eigen::Vector2d nearest = Eigen::Vector2d::Zero();
+        for (int k = 0; k < 3; ++k) {
+          nearest += w.weights[k] * src.uv.row(w.corners[static_cast<std::size_t>(k)]).transpose();
+        }
+        fade = std::max(0.0, 1 - (p + offset - nearest).norm() / options.outsideFalloff);
+      }
       for (int k = 0; k < 3; ++k) {
         const int s = w.corners[static_cast<std::size_t>(k)];
-        const double weight = sampleWeight * w.weights[k];
+        const double weight = sampleWeight * fade * w.weights[k];
         if (weight == 0) continue;
         auto it = std::find_if(entries.begin(), entries.end(),
                                [&](const auto& e) { return e.first == s; });

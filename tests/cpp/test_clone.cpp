@@ -239,6 +239,20 @@ TEST(Clone, OpenJawOntoMakeHumanMovesTheChinByFapuAndLeavesTheForehead) {
     }
   }
   std::printf("forehead: %d vertices, largest motion %.2e\n", forehead, moved);
+  // Far below the chin (neck and body) nothing moves: the motion fades out beyond CANDIDE's
+  // edge (CloneOptions::outsideFalloff).
+  double body = 0;
+  for (std::size_t m = 0; m < human.meshes.size(); ++m) {
+    const Points3 motion = motionOf(r.copies[0], human, static_cast<int>(m));
+    for (int v = 0; v < human.meshes[m].vertexCount(); ++v) {
+      const Eigen::Vector3d p = world[m] * human.meshes[m].coord.row(v).transpose();
+      if (p.y() < human.featurePointPosition("2.1")->y() - 5 * targetFapu.MNS0.value) {
+        body = std::max(body, motion.row(v).norm());
+      }
+    }
+  }
+  std::printf("body (5 MNS0 below 2.1): largest motion %.5f\n", body);
+  EXPECT_EQ(body, 0);
   EXPECT_GT(forehead, 20);
   EXPECT_LT(moved, 0.01 * std::abs(expected));
 }
@@ -280,4 +294,46 @@ TEST(Clone, CloneFaceMakesTablesThatReproduceTheCopies) {
   EXPECT_EQ(f.copies.size(), copies.size());
   EXPECT_EQ(f.face.faceDefTables.size(), copies.size());
   EXPECT_EQ(f.face.faceSceneGraph.meshes[0].coord, scaled.meshes[0].coord);
+}
+
+// The rigid parts are wired: an eye mesh under its own Transform is left out of the vertex
+// mapping and its rotation is carried over (clone_rigid.hpp does the matching).
+TEST(Clone, EyeRotationGoesThroughTheRigidParts) {
+  const Candide c = candide();
+  FaceModel source = c.neutral;
+  IndexedFaceSet eye;
+  eye.name = "LeftEye";
+  eye.coord.resize(4, 3);
+  eye.coord << 0, 0, 0.03, 0.03, 0, 0, -0.03, 0, 0, 0, 0.03, 0;
+  eye.coordIndex = {0, 1, 2, -1, 0, 2, 3, -1, 0, 3, 1, -1};
+  const int eyeMesh = source.addMeshWithTransform(eye);
+  const int eyeTransform = *source.findTransform("LeftEye");
+  source.transforms[static_cast<std::size_t>(eyeTransform)].translation = {0.304, 0.16, -0.03};
+  source.featurePoints["3.5"] = {eyeMesh, 0, Eigen::Vector3d::Zero()};
+  DeformedCopy look;
+  look.name = "look left";
+  look.fapID = 23;
+  look.amplitude = 20000;
+  look.model = source;
+  look.model.transforms[static_cast<std::size_t>(eyeTransform)].rotation =
+      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
+  FaceModel target = source;
+  target.meshes[0].coord *= 1.5;
+  target.transforms[static_cast<std::size_t>(eyeTransform)].translation *= 1.5;
+  const std::vector<DeformedCopy> copies{look};
+  const CloneResult r = cloneDeformedCopies(source, copies, target);
+  const FaceModel& out = r.copies[0].model;
+  const Eigen::AngleAxisd turn(
+      out.transforms[static_cast<std::size_t>(eyeTransform)].rotation *
+      r.targetNeutral.transforms[static_cast<std::size_t>(eyeTransform)].rotation.inverse());
+  EXPECT_NEAR(turn.angle(), 0.2, 1e-9);
+  EXPECT_EQ(out.meshes[static_cast<std::size_t>(eyeMesh)].coord,
+            r.targetNeutral.meshes[static_cast<std::size_t>(eyeMesh)].coord);
+  EXPECT_EQ(out.meshes[0].coord, r.targetNeutral.meshes[0].coord);
+  CloneOptions noRigid;
+  noRigid.rigidParts = false;
+  const CloneResult plain = cloneDeformedCopies(source, copies, target, noRigid);
+  EXPECT_TRUE(
+      plain.copies[0].model.transforms[static_cast<std::size_t>(eyeTransform)].rotation.isApprox(
+          target.transforms[static_cast<std::size_t>(eyeTransform)].rotation));
 }

@@ -24,6 +24,10 @@ struct CloneOptions {
   double filterSupport = 0.02;
   // Keep the upper and lower lip regions apart (the paper's lip-region rule).
   bool separateLips = true;
+  // A target point outside the source's surface takes the motion of the closest source
+  // triangle (the paper's rule) faded linearly to 0 at this distance from it, in alignment
+  // units (ours: a face mask's edge must not drag a whole body along); 0: no fading.
+  double outsideFalloff = 0.5;
   // Map eyes, teeth, tongue and global head motion as transforms (clone_rigid.hpp).
   bool rigidParts = true;
   // Called with a stage name and the fraction done (0..1) of the whole job; may be empty.
