@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Heads and FAP shapes for measuring Facial Motion Cloning, shared by
 // tests/cpp/test_clone_smoothness.cpp and bench/bench_clone.cpp: CANDIDE-3 with its feature
-// points at any density, 68 synthetic FAP, viseme and expression shapes on it, and a
+// points at any density (mesh_resample.hpp), 68 synthetic FAP, viseme and expression shapes
+// on it, and a
 // roughness measure of a motion field. Header-only, no GoogleTest.
 #pragma once
 
@@ -18,55 +19,73 @@
 #include "mpeg4face/fapu.hpp"
 #include "mpeg4face/fat_generate.hpp"
 #include "mpeg4face/feature_point_csv.hpp"
+#include "mpeg4face/mesh_resample.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/wfm.hpp"
 
 namespace mpeg4face::clone_fixture {
 
-// CANDIDE-3 (one mesh of 113 vertices) with the feature points of its CSV, from tests/data.
+// Turns triangles so that neighbours run through their common edge in opposite directions
+// (breadth first from each unvisited triangle): CANDIDE-3 mixes both windings, which
+// OpenMesh (mesh_resample.hpp) refuses as non-manifold.
+inline void orientConsistently(IndexedFaceSet& mesh) {
+  std::vector<int> t = mesh.triangles();
+  const size_t n = t.size() / 3;
+  std::map<std::pair<int, int>, std::vector<size_t>> byEdge;
+  for (size_t f = 0; f < n; ++f) {
+    for (size_t k = 0; k < 3; ++k) {
+      byEdge[std::minmax(t[3 * f + k], t[3 * f + (k + 1) % 3])].push_back(f);
+    }
+  }
+  const auto runs = [&](size_t f, int a, int b) {  // does triangle f go a -> b?
+    for (size_t k = 0; k < 3; ++k) {
+      if (t[3 * f + k] == a && t[3 * f + (k + 1) % 3] == b) return true;
+    }
+    return false;
+  };
+  std::vector<bool> done(n, false);
+  for (size_t seed = 0; seed < n; ++seed) {
+    if (done[seed]) continue;
+    done[seed] = true;
+    std::vector<size_t> queue{seed};
+    while (!queue.empty()) {
+      const size_t f = queue.back();
+      queue.pop_back();
+      for (size_t k = 0; k < 3; ++k) {
+        const int a = t[3 * f + k], b = t[3 * f + (k + 1) % 3];
+        for (size_t g : byEdge[std::minmax(a, b)]) {
+          if (done[g]) continue;
+          done[g] = true;
+          if (runs(g, a, b)) std::swap(t[3 * g + 1], t[3 * g + 2]);
+          queue.push_back(g);
+        }
+      }
+    }
+  }
+  mesh.coordIndex.clear();
+  for (size_t f = 0; f < n; ++f) {
+    mesh.coordIndex.insert(mesh.coordIndex.end(), {t[3 * f], t[3 * f + 1], t[3 * f + 2], -1});
+  }
+}
+
+// CANDIDE-3 (one mesh of 113 vertices, consistently oriented) with the feature points of
+// its CSV, from tests/data.
 inline FaceModel candide(const std::filesystem::path& dataDir) {
   FaceModel model = readWfm(dataDir / "candide3" / "candide3.wfm").model;
+  orientConsistently(model.meshes[0]);
   model.featurePoints =
       readFeaturePointCsv(dataDir / "candide3" / "feature_points.csv", model).featurePoints;
   return model;
 }
 
-// Each triangle of every mesh split into four at its edge midpoints, `levels` times. The old
-// vertices keep their numbers, so feature points bound to them stay. (Stopgap until
-// mesh_resample.hpp is merged.)
-inline FaceModel subdivided(FaceModel model, int levels) {
-  for (IndexedFaceSet& mesh : model.meshes) {
-    for (int level = 0; level < levels; ++level) {
-      const std::vector<int> triangles = mesh.triangles();
-      std::map<std::pair<int, int>, int> midpoint;
-      std::vector<Eigen::RowVector3d> added;
-      const auto mid = [&](int a, int b) {
-        const auto key = std::minmax(a, b);
-        const auto [it, isNew] =
-            midpoint.try_emplace(key, mesh.vertexCount() + static_cast<int>(added.size()));
-        if (isNew) added.push_back(0.5 * (mesh.coord.row(a) + mesh.coord.row(b)));
-        return it->second;
-      };
-      std::vector<int> faces;
-      for (size_t t = 0; t < triangles.size(); t += 3) {
-        const int a = triangles[t], b = triangles[t + 1], c = triangles[t + 2];
-        const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-        faces.insert(faces.end(), {a, ab, ca, -1, ab, b, bc, -1, ca, bc, c, -1, ab, bc, ca, -1});
-      }
-      const int old = mesh.vertexCount();
-      mesh.coord.conservativeResize(old + static_cast<int>(added.size()), 3);
-      for (size_t i = 0; i < added.size(); ++i)
-        mesh.coord.row(old + static_cast<int>(i)) = added[i];
-      mesh.coordIndex = std::move(faces);
-      mesh.normal.resize(0, 3);
-      mesh.texCoord.resize(0, 2);
-      mesh.texCoordIndex.clear();
-      mesh.morphTargets.clear();
-      mesh.weights.clear();
-      mesh.sourceIndex.clear();
-    }
-  }
-  return model;
+// One-mesh `model` with about `vertices` vertices: subdivided (modified butterfly, which keeps
+// the feature-point vertices) until it has at least that many, then decimated (quadric, the
+// feature points locked) down to them: an irregular mesh, as a modeled or scanned head is.
+inline FaceModel resampled(const FaceModel& model, int vertices) {
+  FaceModel out = model;
+  while (out.meshes[0].vertexCount() < vertices) out = subdivideFaceModel(out, 1);
+  const double fraction = static_cast<double>(vertices) / out.meshes[0].vertexCount();
+  return fraction < 1 ? decimateFaceModel(out, fraction) : out;
 }
 
 // A hash of (shape, vertex) to [-1, 1]: per-vertex detail that does not depend on the order

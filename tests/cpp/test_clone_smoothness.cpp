@@ -34,9 +34,10 @@ double clonedRoughness(const FaceModel& source, const std::vector<DeformedCopy>&
 }  // namespace
 
 TEST(CloneSmoothness, FilterSmoothsDenseSourceOnCoarseTarget) {
-  const FaceModel coarse = fixture::candide(mpeg4face::test::kData);  // 113 vertices
-  const FaceModel dense = fixture::subdivided(coarse, 4);             // 24,000 and more
-  const FaceModel medium = fixture::subdivided(coarse, 2);
+  const FaceModel candide = fixture::candide(mpeg4face::test::kData);
+  const FaceModel dense = fixture::resampled(candide, 20000);
+  const FaceModel coarse = fixture::resampled(candide, 400);  // decimated
+  const FaceModel medium = fixture::resampled(candide, 4000);
   const std::vector<DeformedCopy> copies = fixture::syntheticCopies(dense, 1.0);
   ASSERT_EQ(copies.size(), 68u);
   const double coarseOff = clonedRoughness(dense, copies, coarse, 0);
