@@ -185,6 +185,9 @@ void requireFeaturePoints(const FaceModel& model, const std::string& path, const
 class ProgressPrinter {
  public:
   ProgressPrinter() : tty_(isatty(fileno(stderr)) != 0) {}
+  ProgressPrinter(const ProgressPrinter&) = delete;
+  ProgressPrinter& operator=(const ProgressPrinter&) = delete;
+  ~ProgressPrinter() { finish(); }  // also when an error unwinds: its message on a line of its own
   void finish() {
     if (tty_ && !stage_.empty()) std::fputc('\n', stderr);
     stage_.clear();
@@ -246,13 +249,14 @@ int runClone(const std::vector<std::string>& rawArgs) {
     printer(stage, fraction);
   };
   const ClonedFace cloned = cloneFace(source.neutral, source.copies, target, args.options);
-  printer.finish();
+  printer("writing", 1.0);
   if (isGltf(args.output)) {
     writeFatGltf(withCopiesAsShapeKeys(cloned), measureFapu(cloned.face.faceSceneGraph), {},
                  args.output);
   } else {
     writeVrml(cloned.face, args.output);
   }
+  printer.finish();
 
   std::printf("%s: %zu copies (from %s) -> %s: %zu copies, %zu tables\n", args.source.c_str(),
               source.copies.size(), source.kind.c_str(), args.target.c_str(), cloned.copies.size(),
