@@ -379,7 +379,7 @@ def fp_key(name):
     return int(a), int(b)
 
 
-def write_csv(V, fp, path):
+def write_csv(fp, path):
     out = io.StringIO()
     out.write("# MPEG-4 feature points of tests/data/makehuman/base.obj (MakeHuman hm08).\n"
               "# Written by scripts/makehuman_feature_points.py; rules in docs/makehuman-head.md.\n"
@@ -446,7 +446,7 @@ def main():
     args = parser.parse_args()
     V, G = load_obj(OBJ)
     fp = pick(V, G)
-    write_csv(V, fp, CSV)
+    write_csv(fp, CSV)
     print(f"{len(fp)} feature points -> {CSV.relative_to(ROOT)}")
     if args.plot:
         plot(V, G, fp, PNG)
