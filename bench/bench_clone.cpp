@@ -82,6 +82,7 @@ double meanRoughness(const FaceModel& source, std::span<const DeformedCopy> copi
 
 int main() {
   constexpr int kRuns = 5;
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // each figure as soon as it is measured
   const FaceModel base = fixture::candide(MPEG4FACE_TEST_DATA);
   std::printf(
       "Facial Motion Cloning, 68 shapes (FAP 3..68, viseme 1, expression 1), single thread\n"
