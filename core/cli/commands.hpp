@@ -29,5 +29,6 @@ int runRd(const std::vector<std::string>& args);
 int runFat(const std::vector<std::string>& args);
 int runExport(const std::vector<std::string>& args);
 int runApply(const std::vector<std::string>& args);
+int runClone(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli

@@ -1,0 +1,270 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `mpeg4face clone`: Facial Motion Cloning (Pandzic 2003) from a face with tables or named
+// shape keys to a neutral face with feature points; the result is the target with its own
+// FaceDefTables.
+#include "mpeg4face/clone.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "commands.hpp"
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/fat_gltf.hpp"
+#include "mpeg4face/fat_names.hpp"
+#include "mpeg4face/feature_point_csv.hpp"
+#include "mpeg4face/file_io.hpp"
+#include "mpeg4face/vrml.hpp"
+
+namespace mpeg4face::cli {
+namespace {
+
+std::string extensionOf(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+bool isGltf(const std::string& path) {
+  const std::string ext = extensionOf(path);
+  return ext == ".glb" || ext == ".gltf";
+}
+
+struct Args {
+  std::string source, target, output;
+  std::optional<std::string> sourceFeaturePoints, targetFeaturePoints;
+  CloneOptions options;
+};
+
+Args parseArgs(const std::vector<std::string>& args) {
+  Args out;
+  std::vector<std::string> files;
+  const auto value = [&](size_t& i, const char* what) -> const std::string& {
+    if (i + 1 >= args.size()) throw UsageError(args[i] + " needs " + what);
+    return args[++i];
+  };
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-o") {
+      out.output = value(i, "an output file");
+    } else if (a == "--source-feature-points") {
+      out.sourceFeaturePoints = value(i, "a CSV file");
+    } else if (a == "--target-feature-points") {
+      out.targetFeaturePoints = value(i, "a CSV file");
+    } else if (a == "--filter-support") {
+      const std::string& text = value(i, "a number");
+      size_t used = 0;
+      double s = -1;
+      try {
+        s = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != text.size() || !std::isfinite(s) || s < 0) {
+        throw UsageError("--filter-support takes a number >= 0, not '" + text + "'");
+      }
+      out.options.filterSupport = s;
+    } else if (a == "--no-rigid") {
+      out.options.rigidParts = false;
+    } else if (a.starts_with("-") && a != "-") {
+      throw UsageError("unknown option '" + a + "'");
+    } else {
+      files.push_back(a);
+    }
+  }
+  if (files.size() != 2) throw UsageError("clone takes SOURCE and TARGET");
+  out.source = files[0];
+  out.target = files[1];
+  if (out.output.empty()) throw UsageError("no output file given (-o)");
+  if (!isGltf(out.output) && extensionOf(out.output) != ".wrl") {
+    throw UsageError("-o must name a .glb, .gltf or .wrl file");
+  }
+  if (!isGltf(out.source) && extensionOf(out.source) != ".wrl") {
+    throw UsageError(
+        "SOURCE must be a face with tables (.wrl, .glb, .gltf) or a glTF head with "
+        "named shape keys, not '" +
+        out.source + "'");
+  }
+  return out;
+}
+
+void bindFeaturePoints(const std::optional<std::string>& csvPath, FaceModel& model,
+                       std::vector<std::string>& warnings) {
+  if (!csvPath) return;
+  FeaturePointCsv csv = readFeaturePointCsv(*csvPath, model);
+  for (auto& [id, binding] : csv.featurePoints) model.featurePoints[id] = binding;
+  warnings.insert(warnings.end(), csv.warnings.begin(), csv.warnings.end());
+}
+
+void makeNeutral(FaceModel& model) {
+  for (IndexedFaceSet& mesh : model.meshes) {
+    mesh.morphTargets.clear();
+    mesh.weights.clear();
+  }
+  model.animations.clear();
+}
+
+struct Source {
+  FaceModel neutral;
+  std::vector<DeformedCopy> copies;
+  std::string kind;  // "tables" or "shape keys"
+};
+
+Source tablesSource(MpegFace face, const FapuMeasurement& fapu, const std::string& path) {
+  if (face.faceDefTables.empty()) {
+    throw Error(path, 0, "faceDefTables",
+                "the face has no Face Animation Tables: nothing to clone");
+  }
+  Source out;
+  out.copies = deformedCopiesFromFaceDefTables(face, fapu);
+  out.neutral = std::move(face.faceSceneGraph);
+  makeNeutral(out.neutral);
+  out.kind = "tables";
+  return out;
+}
+
+// A .wrl with tables; a glTF written with tables (writeFatGltf), else a glTF head whose
+// shape keys are named copies (fat_names.hpp).
+Source readSource(const Args& args, std::vector<std::string>& warnings) {
+  const std::string& path = args.source;
+  if (!isGltf(path)) {
+    MpegFace face = readVrml(path);
+    bindFeaturePoints(args.sourceFeaturePoints, face.faceSceneGraph, warnings);
+    const FapuMeasurement fapu = measureFapu(face.faceSceneGraph);
+    return tablesSource(std::move(face), fapu, path);
+  }
+  std::optional<FatGltf> fat;
+  try {
+    fat = readFatGltf(path);
+  } catch (const Error& e) {
+    // Only "no tables at all" sends us to the shape keys; broken tables are an error.
+    if (!e.field().ends_with("extras.mpeg4face.faceDefTables") ||
+        !e.reason().starts_with("the file has no Face Animation Tables")) {
+      throw;
+    }
+  }
+  if (fat) {
+    bindFeaturePoints(args.sourceFeaturePoints, fat->face.faceSceneGraph, warnings);
+    // The file's own FAPU: the one its targets were scaled with.
+    return tablesSource(std::move(fat->face), fat->fapu, path);
+  }
+  FaceModel model = readModel(path);
+  bindFeaturePoints(args.sourceFeaturePoints, model, warnings);
+  ShapeKeyCopies keys = deformedCopiesFromShapeKeys(model);
+  for (const std::string& name : keys.ignored) {
+    warnings.push_back("source shape key '" + name +
+                       "' is not a FAP, viseme or expression: ignored");
+  }
+  if (keys.copies.empty()) {
+    throw Error(path, 0, "morph targets",
+                "neither Face Animation Tables nor a shape key named as a FAP, viseme or "
+                "expression (e.g. fap3_open_jaw@512; grammar in docs/fat.md)");
+  }
+  Source out{std::move(model), std::move(keys.copies), "shape keys"};
+  makeNeutral(out.neutral);
+  return out;
+}
+
+void requireFeaturePoints(const FaceModel& model, const std::string& path, const char* option) {
+  const std::vector<std::string> missing = missingCloneFeaturePoints(model);
+  if (missing.empty()) return;
+  std::string list;
+  for (const std::string& id : missing) list += (list.empty() ? "" : " ") + id;
+  throw Error(path, 0, "feature points",
+              "missing feature points that cloning needs: " + list + " (bind them with " + option +
+                  " CSV)");
+}
+
+// Progress on stderr: a line per stage, or one line updated in place on a terminal.
+class ProgressPrinter {
+ public:
+  ProgressPrinter() : tty_(isatty(fileno(stderr)) != 0) {}
+  ProgressPrinter(const ProgressPrinter&) = delete;
+  ProgressPrinter& operator=(const ProgressPrinter&) = delete;
+  ~ProgressPrinter() { finish(); }  // also when an error unwinds: its message on a line of its own
+  void finish() {
+    if (tty_ && !stage_.empty()) std::fputc('\n', stderr);
+    stage_.clear();
+  }
+  void operator()(std::string_view stage, double fraction) {
+    const int percent = static_cast<int>(std::lround(100 * std::clamp(fraction, 0.0, 1.0)));
+    if (tty_) {
+      if (stage == stage_ && percent == percent_) return;
+      std::fprintf(stderr, "\rclone: %3d%% %-48.*s", percent, static_cast<int>(stage.size()),
+                   stage.data());
+      std::fflush(stderr);
+    } else if (stage != stage_) {
+      std::fprintf(stderr, "clone: %3d%% %.*s\n", percent, static_cast<int>(stage.size()),
+                   stage.data());
+    }
+    stage_ = stage;
+    percent_ = percent;
+  }
+
+ private:
+  bool tty_;
+  std::string stage_;
+  int percent_ = -1;
+};
+
+// The target with its tables, plus each cloned copy's vertex motion as a shape key named
+// like the copy (Transform motion is in the tables only), so that the file can be edited
+// and fed to `fat generate` again.
+MpegFace withCopiesAsShapeKeys(const ClonedFace& cloned) {
+  MpegFace out = cloned.face;
+  FaceModel& model = out.faceSceneGraph;
+  for (const DeformedCopy& copy : cloned.copies) {
+    for (size_t m = 0; m < model.meshes.size(); ++m) {
+      IndexedFaceSet& mesh = model.meshes[m];
+      Points3 motion = copy.model.meshes[m].coord - mesh.coord;
+      if (motion.rows() == 0 || motion.cwiseAbs().maxCoeff() == 0) continue;
+      mesh.morphTargets.push_back({copy.name, std::move(motion)});
+      mesh.weights.resize(mesh.morphTargets.size(), 0.0);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+int runClone(const std::vector<std::string>& rawArgs) {
+  Args args = parseArgs(rawArgs);
+  std::vector<std::string> warnings;
+  const Source source = readSource(args, warnings);
+
+  FaceModel target = readModel(args.target);
+  bindFeaturePoints(args.targetFeaturePoints, target, warnings);
+  makeNeutral(target);
+  requireFeaturePoints(source.neutral, args.source, "--source-feature-points");
+  requireFeaturePoints(target, args.target, "--target-feature-points");
+
+  ProgressPrinter printer;
+  args.options.progress = [&](std::string_view stage, double fraction) {
+    printer(stage, fraction);
+  };
+  const ClonedFace cloned = cloneFace(source.neutral, source.copies, target, args.options);
+  printer("writing", 1.0);
+  if (isGltf(args.output)) {
+    writeFatGltf(withCopiesAsShapeKeys(cloned), measureFapu(cloned.face.faceSceneGraph), {},
+                 args.output);
+  } else {
+    writeVrml(cloned.face, args.output);
+  }
+  printer.finish();
+
+  std::printf("%s: %zu copies (from %s) -> %s: %zu copies, %zu tables\n", args.source.c_str(),
+              source.copies.size(), source.kind.c_str(), args.target.c_str(), cloned.copies.size(),
+              cloned.face.faceDefTables.size());
+  warnings.insert(warnings.end(), cloned.warnings.begin(), cloned.warnings.end());
+  for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
+  std::printf("wrote %s\n", args.output.c_str());
+  return 0;
+}
+
+}  // namespace mpeg4face::cli
