@@ -72,8 +72,8 @@ class ArithmeticEncoder {
  private:
   // Narrows the interval to [lower, upper) of total and writes the settled bits.
   void narrow(uint32_t lower, uint32_t upper, uint32_t total);
-  void emit(bool bit);  // one coder bit with its pending opposite bits
-  void put(bool bit);   // one bit with the stuffing rule
+  void emit(uint32_t bits, int count);  // settled coder bits, pending bits after the first
+  void put(uint32_t bits, int count);   // bits with the stuffing rule
 
   BitWriter& out_;
   uint32_t low_ = 0;
@@ -100,8 +100,8 @@ class ArithmeticDecoder {
   // expects it.
   uint32_t target(uint32_t total) const;
   void narrow(uint32_t lower, uint32_t upper, uint32_t total);
-  bool get();                   // one coder bit, stuffing removed
-  bool afterZeroRun(bool bit);  // get() after 22 zeros: a stuffed 1, or a violation
+  uint32_t get(int count);        // coder bits, stuffing removed
+  uint32_t getSlowly(int count);  // get() bit by bit, where a stuffed 1 may lie
 
   BitReader& in_;
   uint64_t start_;
