@@ -41,13 +41,6 @@ void AdaptiveModel::rebuild() {
   }
 }
 
-uint32_t AdaptiveModel::countBelow(int symbol) const {
-  if (fresh_) return static_cast<uint32_t>(symbol);
-  uint32_t sum = 0;
-  for (size_t i = static_cast<size_t>(symbol); i > 0; i &= i - 1) sum += tree_[i];
-  return sum;
-}
-
 int AdaptiveModel::find(uint32_t target) const {
   uint32_t below = 0;
   return find(target, below);
@@ -69,7 +62,7 @@ int AdaptiveModel::find(uint32_t target, uint32_t& below) const {
   return static_cast<int>(pos);
 }
 
-void AdaptiveModel::update(int symbol) {
+void AdaptiveModel::prepareUpdate() {
   if (fresh_) {
     // All counts 1: a Fenwick node holds as many counts as the lowest set bit of its index.
     counts_.assign(static_cast<size_t>(symbolCount_), 1u);
@@ -77,14 +70,10 @@ void AdaptiveModel::update(int symbol) {
     for (size_t i = 1; i < tree_.size(); ++i) tree_[i] = static_cast<uint32_t>(i & (~i + 1));
     total_ = static_cast<uint32_t>(symbolCount_);
     fresh_ = false;
-  } else if (total_ == kMaxTotal) {
+  }
+  if (total_ == kMaxTotal) {
     for (uint32_t& c : counts_) c = (c + 1) / 2;
     rebuild();
-  }
-  ++counts_[static_cast<size_t>(symbol)];
-  ++total_;
-  for (size_t i = static_cast<size_t>(symbol) + 1; i < tree_.size(); i += i & (~i + 1)) {
-    ++tree_[i];
   }
 }
 

@@ -81,7 +81,8 @@ class BitReader {
       for (uint64_t i = 0; i < 5; ++i) window = (window << 8) | data_[byte + i];
     } else {
       for (uint64_t i = 0; i < 5; ++i)
-        window = (window << 8) | (position_ < size_ && byte + i < data_.size() ? data_[byte + i] : 0);
+        window =
+            (window << 8) | (position_ < size_ && byte + i < data_.size() ? data_[byte + i] : 0);
     }
     const int shift = 40 - static_cast<int>(position_ & 7) - count;
     return static_cast<uint32_t>((window >> shift) & ((uint64_t{1} << count) - 1));
