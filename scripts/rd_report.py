@@ -4,8 +4,9 @@
 
 usage: rd_report.py MPEG4FACE [FAP_DIR]
 
-Runs `MPEG4FACE rd` on every .fap in FAP_DIR (default tests/data/xface-fap) and on "all9",
-the nine streams concatenated in name order (frames renumbered, one 25 Hz stream), and prints
+Runs `MPEG4FACE rd` on every .fap in FAP_DIR (default tests/data/xface-fap), on "all9",
+the nine streams concatenated in name order (frames renumbered, one 25 Hz stream), and on the
+long 30 Hz streams of tests/data/long-30hz (scripts/make_long_stream.py), and prints
 a Markdown table: for each stream, mode and PSNR target (20, 30, 35, 45 dB, Tao et al.'s
 columns), the cheapest sweep point whose PSNR reaches the target, as bits per FAP sample and
 bits/s ("0.984 / 1135 (q31)"); "<=" marks the coarsest fap_quant (31), where the target
@@ -72,7 +73,9 @@ def main(argv):
     with tempfile.TemporaryDirectory() as work:
         all9 = os.path.join(work, "all9.fap")
         concatenate(faps, all9)
-        streams = [(os.path.basename(p)[:-4], p) for p in faps] + [("all9", all9)]
+        long_dir = os.path.join(os.path.dirname(__file__), "..", "tests", "data", "long-30hz")
+        longs = sorted(os.path.join(long_dir, n) for n in os.listdir(long_dir) if n.endswith(".fap"))
+        streams = [(os.path.basename(p)[:-4], p) for p in faps + [all9] + longs]
         print("| stream | mode | " + " | ".join("%g dB" % t for t in TARGETS) + " |")
         print("|---|---|" + "---|" * len(TARGETS))
         for name, path in streams:

@@ -2,6 +2,7 @@
 #include "mpeg4face/arithmetic_coder.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -40,13 +41,6 @@ void AdaptiveModel::rebuild() {
   }
 }
 
-uint32_t AdaptiveModel::countBelow(int symbol) const {
-  if (fresh_) return static_cast<uint32_t>(symbol);
-  uint32_t sum = 0;
-  for (size_t i = static_cast<size_t>(symbol); i > 0; i &= i - 1) sum += tree_[i];
-  return sum;
-}
-
 int AdaptiveModel::find(uint32_t target) const {
   uint32_t below = 0;
   return find(target, below);
@@ -68,20 +62,18 @@ int AdaptiveModel::find(uint32_t target, uint32_t& below) const {
   return static_cast<int>(pos);
 }
 
-void AdaptiveModel::update(int symbol) {
+void AdaptiveModel::prepareUpdate() {
   if (fresh_) {
+    // All counts 1: a Fenwick node holds as many counts as the lowest set bit of its index.
     counts_.assign(static_cast<size_t>(symbolCount_), 1u);
     tree_.resize(counts_.size() + 1);
-    rebuild();
+    for (size_t i = 1; i < tree_.size(); ++i) tree_[i] = static_cast<uint32_t>(i & (~i + 1));
+    total_ = static_cast<uint32_t>(symbolCount_);
     fresh_ = false;
-  } else if (total_ == kMaxTotal) {
+  }
+  if (total_ == kMaxTotal) {
     for (uint32_t& c : counts_) c = (c + 1) / 2;
     rebuild();
-  }
-  ++counts_[static_cast<size_t>(symbol)];
-  ++total_;
-  for (size_t i = static_cast<size_t>(symbol) + 1; i < tree_.size(); i += i & (~i + 1)) {
-    ++tree_[i];
   }
 }
 
@@ -103,42 +95,65 @@ void ArithmeticEncoder::encodeUniform(int symbol, int symbolCount) {
   narrow(upper - 1, upper, static_cast<uint32_t>(symbolCount));
 }
 
-inline void ArithmeticEncoder::put(bool bit) {
-  if (zeroRun_ == kMaxZeroRun) [[unlikely]] {
-    out_.writeBit(true);
-    zeroRun_ = 0;
+// Writes `count` (1..16) bits with the stuffing rule. Where no 1 needs stuffing (the zero run
+// before every bit stays below 22) they go out in one write; runs after a 1 inside the chunk
+// are shorter than 16, so only the leading zeros can reach 22.
+void ArithmeticEncoder::put(uint32_t bits, int count) {
+  const int leadingZeros = count - std::bit_width(bits);
+  if (zeroRun_ + std::min(leadingZeros, count - 1) < kMaxZeroRun) [[likely]] {
+    out_.writeBits(bits, count);
+    zeroRun_ = bits == 0 ? zeroRun_ + count : std::countr_zero(bits);
+    return;
   }
-  out_.writeBit(bit);
-  zeroRun_ = bit ? 0 : zeroRun_ + 1;
+  for (int i = count - 1; i >= 0; --i) {
+    if (zeroRun_ == kMaxZeroRun) {
+      out_.writeBit(true);
+      zeroRun_ = 0;
+    }
+    const bool bit = (bits >> i) & 1;
+    out_.writeBit(bit);
+    zeroRun_ = bit ? 0 : zeroRun_ + 1;
+  }
 }
 
-inline void ArithmeticEncoder::emit(bool bit) {
-  put(bit);
-  for (; pending_ > 0; --pending_) put(!bit);
+// The settled bits (1..16, most significant first): the first one followed by the pending bits
+// (its opposite), then the rest.
+void ArithmeticEncoder::emit(uint32_t bits, int count) {
+  if (pending_ == 0) [[likely]] {
+    put(bits, count);
+    return;
+  }
+  const uint32_t first = bits >> (count - 1);
+  put(first, 1);
+  for (; pending_ > 0;) {
+    const int run = static_cast<int>(std::min<uint32_t>(pending_, 16));
+    put(first ? 0u : (1u << run) - 1, run);
+    pending_ -= static_cast<uint32_t>(run);
+  }
+  if (count > 1) put(bits & ((1u << (count - 1)) - 1), count - 1);
 }
 
+// The renormalisation of the reference coder (while high < q2 or low >= q2: send the top bit
+// and double; while q1 <= low and high < q3: one more pending bit, subtract q1 and double)
+// done a run at a time. The first loop sends exactly the leading bits low and high share. After
+// it low < q2 <= high, and each step of the second (x -> 2x - q2 mod 2^16) drops bit 14 of
+// both, so it runs while low has a 1 and high a 0 there, and leaves bit 15 toggled.
 void ArithmeticEncoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
-  uint32_t low = low_,
-           high = high_;  // locals: emit() writes memory the compiler cannot see through
+  uint32_t low = low_, high = high_;
   const uint32_t length = high - low + 1;
   high = low - 1 + length * upper / total;
   low += length * lower / total;
-  for (;;) {
-    if (high < kQ2) {
-      emit(false);
-    } else if (low >= kQ2) {
-      emit(true);
-      low -= kQ2;
-      high -= kQ2;
-    } else if (low >= kQ1 && high < kQ3) {
-      ++pending_;
-      low -= kQ1;
-      high -= kQ1;
-    } else {
-      break;
-    }
-    low *= 2;
-    high = 2 * high + 1;
+  const int settled = std::countl_zero(static_cast<uint16_t>(low ^ high));
+  if (settled > 0) {
+    emit(low >> (16 - settled), settled);
+    low = (low << settled) & kTop;
+    high = ((high << settled) | ((1u << settled) - 1)) & kTop;
+  }
+  const int straddling = std::countl_one(static_cast<uint16_t>((low & ~high) << 1));
+  if (straddling > 0) {
+    pending_ += static_cast<uint32_t>(straddling);
+    low = ((low << straddling) & kTop) ^ kQ2;
+    high = (((high << straddling) | ((1u << straddling) - 1)) & kTop) ^ kQ2;
   }
   low_ = low;
   high_ = high;
@@ -146,38 +161,50 @@ void ArithmeticEncoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
 
 void ArithmeticEncoder::flush() {
   ++pending_;
-  emit(low_ >= kQ1);
+  emit(low_ >= kQ1 ? 1 : 0, 1);
   low_ = 0;
   high_ = kTop;
   zeroRun_ = 0;
 }
 
-// Called per coder bit, so the rare case is kept out of line.
-inline bool ArithmeticDecoder::get() {
-  const bool bit = in_.readBitOrZero();
-  if (zeroRun_ == kMaxZeroRun) [[unlikely]] {
-    return afterZeroRun(bit);
+// `count` (0..31) coder bits, stuffing removed. Without a stuffed 1 among them (the zero run
+// before every bit stays below 22; runs after a 1 are shorter than 22 when count <= 23) they
+// are taken in one read; otherwise bit by bit, the rare case kept out of line.
+inline uint32_t ArithmeticDecoder::get(int count) {
+  const uint32_t bits = in_.peekBitsOrZero(count);
+  const int leadingZeros = count - std::bit_width(bits);
+  if (count <= 23 && zeroRun_ + std::min(leadingZeros, count - 1) < kMaxZeroRun) [[likely]] {
+    in_.skip(count);
+    bitsRead_ += static_cast<uint64_t>(count);
+    zeroRun_ = bits == 0 ? zeroRun_ + count : std::countr_zero(bits);
+    return bits;
   }
-  zeroRun_ = bit ? 0 : zeroRun_ + 1;
-  ++bitsRead_;
-  return bit;
+  return getSlowly(count);
 }
 
-bool ArithmeticDecoder::afterZeroRun(bool bit) {
-  if (bit) {
-    stuffedAfter_.push_back(bitsRead_);
-    bit = in_.readBitOrZero();  // the stuffed 1 is not a coder bit
-  } else if (badStuffing_ == UINT64_MAX) {
-    // Legal only past the segment's end (where plain fields follow); finish() decides.
-    badStuffing_ = in_.position() - 1;
+uint32_t ArithmeticDecoder::getSlowly(int count) {
+  uint32_t bits = 0;
+  for (int i = 0; i < count; ++i) {
+    bool bit = in_.readBitOrZero();
+    if (zeroRun_ == kMaxZeroRun) {
+      if (bit) {
+        stuffedAfter_.push_back(bitsRead_);
+        bit = in_.readBitOrZero();  // the stuffed 1 is not a coder bit
+      } else if (badStuffing_ == UINT64_MAX) {
+        // Legal only past the segment's end (where plain fields follow); finish() decides.
+        badStuffing_ = in_.position() - 1;
+      }
+      zeroRun_ = 0;
+    }
+    zeroRun_ = bit ? 0 : zeroRun_ + 1;
+    ++bitsRead_;
+    bits = 2 * bits + (bit ? 1 : 0);
   }
-  zeroRun_ = bit ? 0 : 1;
-  ++bitsRead_;
-  return bit;
+  return bits;
 }
 
 ArithmeticDecoder::ArithmeticDecoder(BitReader& in) : in_(in), start_(in.position()) {
-  for (int i = 0; i < 16; ++i) value_ = 2 * value_ + (get() ? 1 : 0);
+  value_ = get(16);
 }
 
 uint32_t ArithmeticDecoder::target(uint32_t total) const {
@@ -204,32 +231,30 @@ int ArithmeticDecoder::decodeUniform(int symbolCount) {
   return static_cast<int>(symbol);
 }
 
+// ArithmeticEncoder::narrow's runs; the code value follows low and high, taking in a coder
+// bit per doubling.
 void ArithmeticDecoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
-  uint32_t low = low_, high = high_, value = value_;
+  uint32_t low = low_, high = high_;
   const uint32_t length = high - low + 1;
   high = low - 1 + length * upper / total;
   low += length * lower / total;
-  for (;;) {
-    if (high < kQ2) {
-      // nothing to subtract
-    } else if (low >= kQ2) {
-      value -= kQ2;
-      low -= kQ2;
-      high -= kQ2;
-    } else if (low >= kQ1 && high < kQ3) {
-      value -= kQ1;
-      low -= kQ1;
-      high -= kQ1;
-    } else {
-      break;
-    }
-    low *= 2;
-    high = 2 * high + 1;
-    value = 2 * value + (get() ? 1 : 0);
+  const int settled = std::countl_zero(static_cast<uint16_t>(low ^ high));
+  if (settled > 0) {
+    low = (low << settled) & kTop;
+    high = ((high << settled) | ((1u << settled) - 1)) & kTop;
+  }
+  const int straddling = std::countl_one(static_cast<uint16_t>((low & ~high) << 1));
+  const uint32_t toggle = straddling > 0 ? kQ2 : 0;
+  if (straddling > 0) {
+    low = ((low << straddling) & kTop) ^ kQ2;
+    high = (((high << straddling) | ((1u << straddling) - 1)) & kTop) ^ kQ2;
+  }
+  const int shift = settled + straddling;
+  if (shift > 0) {
+    value_ = ((static_cast<uint32_t>(uint64_t{value_} << shift) | get(shift)) & kTop) ^ toggle;
   }
   low_ = low;
   high_ = high;
-  value_ = value;
 }
 
 void ArithmeticDecoder::finish(std::string_view element) {

@@ -7,10 +7,6 @@
 
 namespace mpeg4face {
 
-void BitWriter::writeBits(uint32_t value, int count) {
-  for (int i = count - 1; i >= 0; --i) writeBit((value >> i) & 1);
-}
-
 void BitWriter::nextStartCode() {
   writeBit(false);
   while (bitCount_ & 7) writeBit(true);
@@ -29,8 +25,8 @@ uint32_t BitReader::readBits(int count, std::string_view element) {
     fail(element, "needs " + std::to_string(count) + " bits but the data ends (" +
                       std::to_string(bitsLeft()) + " bits left)");
   }
-  uint32_t value = 0;
-  for (int i = 0; i < count; ++i) value = (value << 1) | (bitAt(position_++) ? 1u : 0u);
+  const uint32_t value = peekBitsOrZero(count);
+  position_ += static_cast<uint64_t>(count);
   return value;
 }
 

@@ -63,11 +63,15 @@ std::array<double, kN> forwardDct16(const std::array<double, kN>& x) {
 
 std::array<int, kN> reconstructDctSegment(const std::array<std::int64_t, kN>& levels, int acStep,
                                           int dcDivisor) {
+  // Most AC levels are 0: only the others' basis rows are added (the sum is exact either way).
+  std::array<std::int64_t, kN> ac{};
+  for (int k = 1; k < kN; ++k) {
+    if (levels[k] == 0) continue;
+    for (int n = 0; n < kN; ++n) ac[n] += levels[k] * kBasis[k][n];
+  }
   std::array<int, kN> x{};
   for (int n = 0; n < kN; ++n) {
-    std::int64_t ac = 0;
-    for (int k = 1; k < kN; ++k) ac += levels[k] * kBasis[k][n];
-    const std::int64_t s = acStep * (levels[0] * kBasis[0][n] + dcDivisor * ac);
+    const std::int64_t s = acStep * (levels[0] * kBasis[0][n] + dcDivisor * ac[n]);
     x[n] = static_cast<int>(roundedDivide(s, std::int64_t{dcDivisor} << kBasisShift));
   }
   return x;

@@ -436,25 +436,26 @@ class SegmentReader {
   }
 
   void readLevels(std::array<std::int64_t, kN>& levels, std::int64_t& dc) {
-    const std::string fap = "FAP " + std::to_string(fap_);
+    // Named only when an error needs it: no string per FAP and segment on the way.
+    const auto fap = [this] { return "FAP " + std::to_string(fap_); };
     const std::int64_t step = acStep(fap_, st_.fapQuant);
     levels[0] = dc + readLevel(m_.dcSize, 0);
     if (std::abs(levels[0]) * step > kCoefficientLimit * st_.dcDivisor)
-      fail(fap + " DC", "level " + std::to_string(levels[0]) + " at the DC step " +
-                            std::to_string(step) + "/" + std::to_string(st_.dcDivisor) +
-                            " is a coefficient beyond 2^24");
+      fail(fap() + " DC", "level " + std::to_string(levels[0]) + " at the DC step " +
+                              std::to_string(step) + "/" + std::to_string(st_.dcDivisor) +
+                              " is a coefficient beyond 2^24");
     dc = levels[0];
     for (int k = 1; k < kN;) {
       const int run = dec_.decode(m_.acRun[runContext(k)]);
       if (run == kEndOfSegment) return;
       if (k + run >= kN)
-        fail(fap + " AC run", "a run of " + std::to_string(run) + " zeros after coefficient " +
-                                  std::to_string(k - 1) + " goes past coefficient 15");
+        fail(fap() + " AC run", "a run of " + std::to_string(run) + " zeros after coefficient " +
+                                    std::to_string(k - 1) + " goes past coefficient 15");
       k += run;
       levels[k] = readLevel(m_.acSize[sizeContext(k)], 1);
       if (std::abs(levels[k]) * step > kCoefficientLimit)
-        fail(fap + " AC level", "level " + std::to_string(levels[k]) + " at the AC step " +
-                                    std::to_string(step) + " is a coefficient beyond 2^24");
+        fail(fap() + " AC level", "level " + std::to_string(levels[k]) + " at the AC step " +
+                                      std::to_string(step) + " is a coefficient beyond 2^24");
       ++k;
     }
   }

@@ -6,12 +6,14 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "mpeg4face/bit_io.hpp"
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/spec.hpp"
@@ -444,6 +446,98 @@ TEST(FbaCodec, CodingModeNames) {
   EXPECT_EQ(mpeg4face::parseCodingMode("predictive"), mpeg4face::FapCodingMode::Predictive);
   EXPECT_EQ(mpeg4face::codingModeName(mpeg4face::FapCodingMode::Predictive), "predictive");
   EXPECT_FALSE(mpeg4face::parseCodingMode("wavelet"));
+}
+
+// FNV-1a, 64 bits: a fingerprint of the encoded bytes.
+uint64_t fnv1a(const std::vector<uint8_t>& bytes) {
+  uint64_t h = 14695981039346656037ull;
+  for (uint8_t b : bytes) h = (h ^ b) * 1099511628211ull;
+  return h;
+}
+
+// Every FAP kind the syntax has (FAP 1 and 2, mask changes, skipped frames, large values), from
+// mt19937 and integer arithmetic only, so the stream is the same with every standard library.
+FapStream portableStream(int frameCount) {
+  std::mt19937 rng(77);
+  FapStream s;
+  s.frameRate = 30.0;
+  std::array<int, mpeg4face::kFapCount> walk{};
+  int number = 0;
+  for (int k = 0; k < frameCount; ++k) {
+    FapFrame f;
+    f.number = number;
+    number += 1 + (k % 29 == 28 ? static_cast<int>(rng() % 20) : 0);
+    for (int fap = 3; fap <= 68; ++fap) {
+      if (fap > 40 && ((k / 50) % 2 == 1) && fap != 48) continue;
+      auto& w = walk[static_cast<size_t>(fap - 1)];
+      w = w * 15 / 16 + static_cast<int>(rng() % 61) - 30;
+      f.set(fap, w * (fap == 48 ? 40 : 1));
+    }
+    if (k % 3 != 0) {
+      f.mask.set(0);
+      f.viseme = {static_cast<int>(rng() % 15), static_cast<int>(rng() % 15),
+                  static_cast<int>(rng() % 64), rng() % 2 == 0};
+    }
+    if (k % 5 != 0) {
+      f.mask.set(1);
+      f.expression = {static_cast<int>(rng() % 7),
+                      static_cast<int>(rng() % 64),
+                      static_cast<int>(rng() % 7),
+                      static_cast<int>(rng() % 64),
+                      rng() % 2 == 0,
+                      rng() % 2 == 0};
+    }
+    s.frames.push_back(f);
+  }
+  return s;
+}
+
+// A regression pin, not a check of correctness (the round-trip tests are that): the hashes
+// were taken from the encoder as it stood before the speed work on branch codec-speed, so any
+// change to the bytes it writes (the format, a range choice, the coder) fails here. If the
+// format is changed on purpose, take the new hashes and say why in the commit.
+TEST(FbaCodec, EncodedBytesArePinned) {
+  using mpeg4face::FapCodingMode;
+  struct Case {
+    std::string stream;  // a .fap under tests/data (without ".fap"), or "portable"
+    FbaEncodeOptions options;
+    uint64_t hash;
+  };
+  const std::vector<Case> cases{
+      {"xface-fap/anger", {.fapQuant = 0}, 0xac64889a2c3a1e49},
+      {"xface-fap/anger", {.fapQuant = 1}, 0xe4ec3c7c3aca60dd},
+      {"xface-fap/anger", {.fapQuant = 11, .intraPeriod = 25}, 0x7b039b94d011d273},
+      {"xface-fap/test", {.fapQuant = 31}, 0x76dbaae0402b7811},
+      {"xface-fap/joy", {.mode = FapCodingMode::Dct, .fapQuant = 1}, 0xbcb86e5b227c7c2e},
+      {"xface-fap/joy",
+       {.mode = FapCodingMode::Dct, .fapQuant = 19, .intraPeriod = 25},
+       0x2516960f6491c78a},
+      {"xface-fap/fear",
+       {.mode = FapCodingMode::Dct, .fapQuant = 4, .dcDivisor = 1},
+       0xd86cba5c922c99c6},
+      {"portable", {.fapQuant = 2, .intraPeriod = 25}, 0x717cd8e55d1fe5b7},
+      {"portable", {.fapQuant = 0}, 0x7b1ce2ef25a62171},
+      {"portable",
+       {.mode = FapCodingMode::Dct, .fapQuant = 3, .intraPeriod = 40},
+       0xa5f7411ab3c18234},
+      {"long-30hz/xface-30hz-tracked", {.fapQuant = 5, .intraPeriod = 25}, 0x64f65226a7850081},
+      {"long-30hz/xface-30hz-tracked",
+       {.mode = FapCodingMode::Dct, .fapQuant = 8},
+       0x91b8e90687762fbb},
+  };
+  for (const Case& c : cases) {
+    const FapStream input = c.stream == "portable"
+                                ? portableStream(400)
+                                : mpeg4face::readFapFile(kData / (c.stream + ".fap"));
+    const FbaEncoding enc = encodeFba(input, c.options);
+    EXPECT_EQ(decodeFba(enc.bytes), enc.reconstruction) << c.stream;
+    char hex[24];
+    std::snprintf(hex, sizeof hex, "0x%016llx", static_cast<unsigned long long>(fnv1a(enc.bytes)));
+    EXPECT_EQ(fnv1a(enc.bytes), c.hash)
+        << c.stream << " " << mpeg4face::codingModeName(c.options.mode) << " fap_quant "
+        << c.options.fapQuant << " intra period " << c.options.intraPeriod << ": " << hex << ", "
+        << enc.bytes.size() << " bytes";
+  }
 }
 
 }  // namespace

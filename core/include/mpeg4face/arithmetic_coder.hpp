@@ -35,18 +35,33 @@ class AdaptiveModel {
   uint32_t total() const { return fresh_ ? static_cast<uint32_t>(symbolCount_) : total_; }
   uint32_t count(int symbol) const { return fresh_ ? 1 : counts_[static_cast<size_t>(symbol)]; }
   // Sum of the counts of the symbols below `symbol`.
-  uint32_t countBelow(int symbol) const;
+  uint32_t countBelow(int symbol) const {
+    if (fresh_) return static_cast<uint32_t>(symbol);
+    uint32_t sum = 0;
+    for (size_t i = static_cast<size_t>(symbol); i > 0; i &= i - 1) sum += tree_[i];
+    return sum;
+  }
   // The symbol s with countBelow(s) <= target < countBelow(s) + count(s); target < total().
   int find(uint32_t target) const;
   // The same, also giving countBelow of the symbol found.
   int find(uint32_t target, uint32_t& below) const;
-  // Adds the coded symbol (halving first when the total has reached kMaxTotal).
-  void update(int symbol);
+  // Adds the coded symbol (halving first when the total has reached kMaxTotal). Inline: it
+  // runs once per coded symbol; the first update and halving are out of line.
+  void update(int symbol) {
+    if (fresh_ || total_ == kMaxTotal) [[unlikely]]
+      prepareUpdate();
+    ++counts_[static_cast<size_t>(symbol)];
+    ++total_;
+    for (size_t i = static_cast<size_t>(symbol) + 1; i < tree_.size(); i += i & (~i + 1)) {
+      ++tree_[i];
+    }
+  }
   // -log2(count / total): what an ideal coder would spend on `symbol` now, in bits.
   double idealBits(int symbol) const;
 
  private:
   void rebuild();
+  void prepareUpdate();  // fills in the counts of a fresh model, or halves them
 
   int symbolCount_;
   bool fresh_ = true;  // all counts 1; counts_ and tree_ not filled in yet
@@ -72,8 +87,8 @@ class ArithmeticEncoder {
  private:
   // Narrows the interval to [lower, upper) of total and writes the settled bits.
   void narrow(uint32_t lower, uint32_t upper, uint32_t total);
-  void emit(bool bit);  // one coder bit with its pending opposite bits
-  void put(bool bit);   // one bit with the stuffing rule
+  void emit(uint32_t bits, int count);  // settled coder bits, pending bits after the first
+  void put(uint32_t bits, int count);   // bits with the stuffing rule
 
   BitWriter& out_;
   uint32_t low_ = 0;
@@ -100,8 +115,8 @@ class ArithmeticDecoder {
   // expects it.
   uint32_t target(uint32_t total) const;
   void narrow(uint32_t lower, uint32_t upper, uint32_t total);
-  bool get();                   // one coder bit, stuffing removed
-  bool afterZeroRun(bool bit);  // get() after 22 zeros: a stuffed 1, or a violation
+  uint32_t get(int count);        // coder bits, stuffing removed
+  uint32_t getSlowly(int count);  // get() bit by bit, where a stuffed 1 may lie
 
   BitReader& in_;
   uint64_t start_;

@@ -20,14 +20,26 @@ inline constexpr uint32_t kFbaObjectEndCode = 0x000001B1;
 
 class BitWriter {
  public:
-  // The low `count` bits of `value` (count 0..32), most significant first.
-  void writeBits(uint32_t value, int count);
-  void writeBit(bool bit) {  // inline: the arithmetic coder writes bit by bit
-    const auto offset = static_cast<unsigned>(bitCount_ & 7);
-    if (offset == 0) bytes_.push_back(0);
-    if (bit) bytes_.back() |= static_cast<uint8_t>(0x80u >> offset);
-    ++bitCount_;
+  // The low `count` bits of `value` (count 0..32), most significant first. Inline and a byte
+  // at a time: the arithmetic coder writes its bits in runs through here.
+  void writeBits(uint32_t value, int count) {
+    if (count <= 0) return;
+    uint64_t v = value & ((uint64_t{1} << count) - 1);
+    const auto offset = static_cast<int>(bitCount_ & 7);
+    bitCount_ += static_cast<uint64_t>(count);
+    if (offset != 0) {
+      const int free = 8 - offset;
+      if (count <= free) {
+        bytes_.back() |= static_cast<uint8_t>(v << (free - count));
+        return;
+      }
+      count -= free;
+      bytes_.back() |= static_cast<uint8_t>(v >> count);
+    }
+    for (; count >= 8; count -= 8) bytes_.push_back(static_cast<uint8_t>(v >> (count - 8)));
+    if (count > 0) bytes_.push_back(static_cast<uint8_t>(v << (8 - count)));
   }
+  void writeBit(bool bit) { writeBits(bit ? 1u : 0u, 1); }
   // next_start_code(): a 0 then 1s up to the byte boundary; a whole 0111 1111 byte when the
   // writer is already aligned, so a reader can always find and strip it.
   void nextStartCode();
@@ -60,6 +72,22 @@ class BitReader {
     ++position_;
     return bit;
   }
+  // The next `count` bits (0..32) without moving, 0 bits past the end; skip() moves on.
+  uint32_t peekBitsOrZero(int count) const {
+    if (count == 0) return 0;
+    const uint64_t byte = position_ >> 3;
+    uint64_t window = 0;  // 40 bits from `byte` on: room for 32 bits at any bit offset
+    if (position_ < size_ && byte + 5 <= data_.size()) {
+      for (uint64_t i = 0; i < 5; ++i) window = (window << 8) | data_[byte + i];
+    } else {
+      for (uint64_t i = 0; i < 5; ++i)
+        window =
+            (window << 8) | (position_ < size_ && byte + i < data_.size() ? data_[byte + i] : 0);
+    }
+    const int shift = 40 - static_cast<int>(position_ & 7) - count;
+    return static_cast<uint32_t>((window >> shift) & ((uint64_t{1} << count) - 1));
+  }
+  void skip(int count) { position_ += static_cast<uint64_t>(count); }
 
   uint64_t position() const { return position_; }  // in bits from the start
   uint64_t size() const { return size_; }          // in bits
