@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Rate at fixed PSNR for every Xface stream and coding mode (docs/rate-distortion.md).
+"""Rate at fixed PSNR for every Xface stream and coding mode (docs/rate-distortion.md); PCA
+with either component coder (pca+predictive, pca+dct: docs/pca-mode.md) counts as a mode.
 
 usage: rd_report.py MPEG4FACE [FAP_DIR]
 
@@ -80,7 +81,7 @@ def main(argv):
         print("|---|---|" + "---|" * len(TARGETS))
         for name, path in streams:
             rows = sweep(tool, path, work)
-            for mode in ("predictive", "dct"):
+            for mode in ("predictive", "dct", "pca+predictive", "pca+dct"):
                 cells = []
                 for t in TARGETS:
                     b = cheapest(rows, mode, t)

@@ -26,6 +26,7 @@ struct EncodeArgs {
   bool autoMode = false;
   std::optional<double> psnrTarget;
   bool fapQuantGiven = false;
+  bool pcaTemporalGiven = false;
   bool json = false;
 };
 
@@ -59,7 +60,7 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
       out.autoMode = args[i] == "auto";
       if (!mode && !out.autoMode) {
-        throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct, auto)");
+        throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct, pca, auto)");
       }
       if (mode) out.options.mode = *mode;
     } else if (a == "--psnr") {
@@ -79,6 +80,16 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
     } else if (a == "--fap-quant") {
       out.options.fapQuant = intArgument(args, i, 0, 31);
       out.fapQuantGiven = true;
+    } else if (a == "--pca-temporal") {
+      if (i + 1 >= args.size()) throw UsageError("--pca-temporal needs a mode");
+      const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
+      if (!mode || *mode == FapCodingMode::Pca) {
+        throw UsageError("--pca-temporal takes predictive or dct, not '" + args[i] + "'");
+      }
+      out.options.pcaTemporal = *mode;
+      out.pcaTemporalGiven = true;
+    } else if (a == "--pca-basis-bits") {
+      out.options.pcaBasisBits = intArgument(args, i, 1, 15);
     } else if (a == "--intra-period") {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
     } else if (a == "--json") {
@@ -98,6 +109,9 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
   }
   if (out.autoMode && out.fapQuantGiven) {
     throw UsageError("--mode auto chooses fap_quant itself; drop --fap-quant");
+  }
+  if (out.pcaTemporalGiven && out.options.mode != FapCodingMode::Pca) {
+    throw UsageError("--pca-temporal goes with --mode pca (auto chooses it itself)");
   }
   return out;
 }
@@ -125,6 +139,7 @@ int runEncode(const std::vector<std::string>& rawArgs) {
                     "no mode and fap_quant reaches " + decibels(args.psnrTarget));
       }
       args.options.mode = best->mode;
+      args.options.pcaTemporal = best->pcaTemporal;
       args.options.fapQuant = best->fapQuant;
     }
     enc = encodeFba(input, args.options);
@@ -145,6 +160,9 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     j["input"] = args.input;
     j["output"] = args.output;
     j["mode"] = codingModeName(args.options.mode);
+    if (args.options.mode == FapCodingMode::Pca) {
+      j["pca_temporal"] = codingModeName(args.options.pcaTemporal);
+    }
     if (args.autoMode) j["psnr_target_db"] = *args.psnrTarget;
     j["fap_quant"] = args.options.fapQuant;
     j["intra_period"] = args.options.intraPeriod;
@@ -167,9 +185,12 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   }
   std::printf("%s: %zu frames at %g Hz\n", args.input.c_str(), input.frames.size(),
               input.frameRate);
-  std::printf("%s: %s, fap_quant %d, intra frames: %d\n", args.output.c_str(),
-              std::string(codingModeName(args.options.mode)).c_str(), args.options.fapQuant,
-              enc.stats.intraFrames);
+  std::string mode(codingModeName(args.options.mode));
+  if (args.options.mode == FapCodingMode::Pca) {
+    mode += " (components coded " + std::string(codingModeName(args.options.pcaTemporal)) + ")";
+  }
+  std::printf("%s: %s, fap_quant %d, intra frames: %d\n", args.output.c_str(), mode.c_str(),
+              args.options.fapQuant, enc.stats.intraFrames);
   if (args.autoMode) {
     std::printf("auto: the fewest bits of every mode and fap_quant reaching %s\n",
                 decibels(args.psnrTarget).c_str());

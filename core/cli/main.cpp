@@ -31,10 +31,13 @@ constexpr std::array kCommands{
             "                 [--intra-period N] [--json]\n"
             "                 | --mode auto --psnr DB\n"
             "  --mode M          predictive (quantised differences, arithmetic coded)\n"
+            "                    pca: KLT per FAP group, basis in the header (docs/pca-mode.md)\n"
             "                    auto: the mode and fap_quant with the fewest bits whose PSNR\n"
             "                    reaches --psnr DB (every mode and fap_quant tried)\n"
             "  --fap-quant Q     0..31 (default 1): each FAP's step is its QP times Q; 0 is\n"
             "                    lossless for |value| <= 1860\n"
+            "  --pca-temporal T  pca only: code the components predictive (default) or dct\n"
+            "  --pca-basis-bits B  pca: fraction bits of the basis sent, 1..15 (default 4)\n"
             "  --intra-period N  an intra frame at least every N frames (default 0: only the\n"
             "                    first frame and where the set of FAPs changes)\n"
             "  --json  print one JSON object (keys bits, bits_per_second, psnr_db, ...)\n",

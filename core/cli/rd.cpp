@@ -59,7 +59,7 @@ std::string csvText(const std::vector<RdPoint>& points) {
   for (const RdPoint& p : points) {
     char buffer[128];
     std::snprintf(buffer, sizeof buffer, "%s,%d,%llu,%.6f,%.3f,",
-                  std::string(codingModeName(p.mode)).c_str(), p.fapQuant,
+                  rdModeName(p).c_str(), p.fapQuant,
                   static_cast<unsigned long long>(p.bits), p.bitsPerSample, p.bitsPerSecond);
     text += buffer + psnrField(p.psnr) + "\n";
   }

@@ -26,7 +26,7 @@ FapStream comparableReconstruction(const FapStream& input, FapStream reconstruct
 
 std::vector<int> fapQuantRange(FapCodingMode mode) {
   std::vector<int> range;
-  for (int q = mode == FapCodingMode::Dct ? 1 : 0; q <= 31; ++q) range.push_back(q);
+  for (int q = mode == FapCodingMode::Predictive ? 0 : 1; q <= 31; ++q) range.push_back(q);
   return range;
 }
 
@@ -36,6 +36,7 @@ RdPoint measureEncoding(const FapStream& stream, const FbaEncodeOptions& options
   const FbaEncoding enc = encodeFba(stream, options);
   RdPoint p;
   p.mode = options.mode;
+  p.pcaTemporal = options.pcaTemporal;
   p.fapQuant = options.fapQuant;
   p.bits = enc.stats.bits;
   const auto bits = static_cast<double>(enc.stats.bits);
@@ -52,9 +53,14 @@ std::vector<RdPoint> sweepRateDistortion(const FapStream& stream,
   for (const FapCodingMode mode : modes) {
     FbaEncodeOptions options = base;
     options.mode = mode;
-    for (const int q : fapQuantRange(mode)) {
-      options.fapQuant = q;
-      points.push_back(measureEncoding(stream, options));
+    std::vector<FapCodingMode> temporals{base.pcaTemporal};
+    if (mode == FapCodingMode::Pca) temporals = {FapCodingMode::Predictive, FapCodingMode::Dct};
+    for (const FapCodingMode temporal : temporals) {
+      options.pcaTemporal = temporal;
+      for (const int q : fapQuantRange(mode)) {
+        options.fapQuant = q;
+        points.push_back(measureEncoding(stream, options));
+      }
     }
   }
   return points;
@@ -79,8 +85,15 @@ std::optional<RdPoint> cheapestEncoding(const FapStream& stream, double targetDb
   return cheapestMeeting(points, targetDb);
 }
 
+std::string rdModeName(const RdPoint& point) {
+  std::string name(codingModeName(point.mode));
+  if (point.mode == FapCodingMode::Pca) name += "+" + std::string(codingModeName(point.pcaTemporal));
+  return name;
+}
+
 std::span<const FapCodingMode> allCodingModes() {
-  static constexpr std::array kModes{FapCodingMode::Predictive, FapCodingMode::Dct};
+  static constexpr std::array kModes{FapCodingMode::Predictive, FapCodingMode::Dct,
+                                     FapCodingMode::Pca};
   return kModes;
 }
 

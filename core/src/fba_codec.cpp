@@ -8,6 +8,7 @@
 #include <string>
 
 #include "fba_dct.hpp"
+#include "fba_pca.hpp"
 #include "fba_predictive.hpp"
 #include "fba_syntax.hpp"
 #include "mpeg4face/error.hpp"
@@ -15,9 +16,10 @@
 namespace mpeg4face {
 namespace {
 
-constexpr std::array<std::pair<FapCodingMode, std::string_view>, 2> kModeNames{{
+constexpr std::array<std::pair<FapCodingMode, std::string_view>, 3> kModeNames{{
     {FapCodingMode::Predictive, "predictive"},
     {FapCodingMode::Dct, "dct"},
+    {FapCodingMode::Pca, "pca"},
 }};
 
 std::string hertz(double fps) {
@@ -118,6 +120,9 @@ FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options) 
     case FapCodingMode::Dct:
       fba::encodeDct(frames, options, rate, output);
       break;
+    case FapCodingMode::Pca:
+      fba::encodePca(frames, options, rate, output);
+      break;
   }
   out.writeStartCode(kFbaObjectEndCode);
   result.stats.bits = out.bitCount();
@@ -130,6 +135,12 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
   BitReader in(bytes, std::string(source));
   if (in.readBits(32, "fba_object_start_code") != kFbaObjectStartCode) {
     in.failAt(0, "fba_object_start_code", "the data does not start with 0x000001BA");
+  }
+  // The PCA mode's header (docs/pca-mode.md): the planes then carry KLT components.
+  std::optional<fba::PcaHeader> pca;
+  if (in.nextIsStartCode(fba::kPcaHeaderStartCode)) {
+    in.readStartCode(fba::kPcaHeaderStartCode, "pca_header_start_code");
+    pca = fba::readPcaHeader(in);
   }
   FapStream stream;
   std::optional<double> rate;
@@ -203,6 +214,7 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
             std::to_string(in.bitsLeft() / 8) + " bytes follow the end of the object");
   }
   if (rate) stream.frameRate = *rate;
+  if (pca) stream.frames = fba::reconstructPca(*pca, stream.frames, source);
   return stream;
 }
 

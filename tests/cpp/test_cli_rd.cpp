@@ -58,9 +58,11 @@ TEST(CliRd, CsvCoversEveryModeAndRateFallsWithFapQuant) {
   const auto r = runCli("rd " + kJoy + " --csv " + csv.string());
   ASSERT_EQ(r.status, 0) << r.out;
   const auto rows = readCsv(csv);
-  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows.size(), 4u);
   ASSERT_EQ(rows.at("predictive").size(), 32u);  // fap_quant 0..31
   ASSERT_EQ(rows.at("dct").size(), 31u);         // 1..31
+  ASSERT_EQ(rows.at("pca+predictive").size(), 31u);
+  ASSERT_EQ(rows.at("pca+dct").size(), 31u);
 
   // Normalisations computed from the stream itself: joy.fap has 108 frames at 25 Hz.
   const mpeg4face::FapStream joy = mpeg4face::readFapFile(kJoy);
@@ -84,7 +86,9 @@ TEST(CliRd, CsvCoversEveryModeAndRateFallsWithFapQuant) {
         EXPECT_LT(points[i].bits, points[i - 4].bits) << mode << " " << points[i].fapQuant;
       }
     }
-    EXPECT_LT(points.back().bits, 0.5 * points.front().bits) << mode;
+    // (The PCA modes' header, the basis, is a cost no fap_quant lowers.)
+    EXPECT_LT(points.back().bits, (mode.starts_with("pca") ? 0.6 : 0.5) * points.front().bits)
+        << mode;
   }
   // Predictive fap_quant 0 is lossless: every FAP exact, so PSNR is +inf.
   EXPECT_EQ(rows.at("predictive").front().fapQuant, 0);
@@ -176,11 +180,12 @@ TEST(CliRd, AutoModeIsNeverWorseThanTheBestSingleModeAtTheTarget) {
         EXPECT_GE(j["psnr_db"].get<double>(), target);
       else
         EXPECT_EQ(j["psnr_db"], "inf");
-      // ...and costs no more than the best of each single mode, or of both together.
+      // ...and costs no more than the best of each single mode, or of both together (the PCA
+      // mode may do better: tests/cpp/test_pca_codec.cpp searches with it).
       const auto both =
           exhaustiveSearch(stream, target, {FapCodingMode::Predictive, FapCodingMode::Dct});
       ASSERT_TRUE(both) << name << " " << target;
-      EXPECT_EQ(bits, both->bits) << name << " " << target;
+      EXPECT_LE(bits, both->bits) << name << " " << target;
       for (const auto mode : {FapCodingMode::Predictive, FapCodingMode::Dct}) {
         const auto single = exhaustiveSearch(stream, target, {mode});
         if (single) {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "mpeg4face/fap_stream.hpp"
@@ -17,6 +18,7 @@ namespace mpeg4face {
 
 struct RdPoint {
   FapCodingMode mode = FapCodingMode::Predictive;
+  FapCodingMode pcaTemporal = FapCodingMode::Predictive;  // the component coder, mode Pca only
   int fapQuant = 0;
   uint64_t bits = 0;
   double bitsPerSample = 0;  // bits / fapSampleCount(stream)
@@ -35,7 +37,8 @@ std::size_t fapSampleCount(const FapStream& stream);
 // (the bitstream codes it in 1/16 Hz, times 1000/1001).
 FapStream comparableReconstruction(const FapStream& input, FapStream reconstruction);
 
-// The fap_quant values a mode accepts: predictive 0..31, dct 1..31.
+// The fap_quant values a mode accepts: predictive 0..31, dct and pca 1..31 (PCA is lossy
+// anyway; its components coded with fap_quant 0 would cost without gain).
 std::vector<int> fapQuantRange(FapCodingMode mode);
 
 // Encodes `stream` with `options` and measures it. Throws what encodeFba throws, and
@@ -43,7 +46,8 @@ std::vector<int> fapQuantRange(FapCodingMode mode);
 RdPoint measureEncoding(const FapStream& stream, const FbaEncodeOptions& options);
 
 // measureEncoding for every mode in `modes` and every fap_quant of fapQuantRange(mode), in
-// that order; the other options are taken from `base`.
+// that order; the other options are taken from `base`. Pca is swept with each component coder
+// (pcaTemporal predictive, then dct).
 std::vector<RdPoint> sweepRateDistortion(const FapStream& stream,
                                          std::span<const FapCodingMode> modes,
                                          const FbaEncodeOptions& base = {});
@@ -61,6 +65,10 @@ std::optional<RdPoint> cheapestMeeting(std::span<const RdPoint> points, double t
 std::optional<RdPoint> cheapestEncoding(const FapStream& stream, double targetDb,
                                         std::span<const FapCodingMode> modes,
                                         const FbaEncodeOptions& base = {});
+
+// A point's mode as tables and the rd CSV name it: "predictive", "dct", "pca+predictive",
+// "pca+dct" (Tao et al.'s PCA+PC and PCA+DCT).
+std::string rdModeName(const RdPoint& point);
 
 // Every coding mode the codec has, for the sweeps above.
 std::span<const FapCodingMode> allCodingModes();

@@ -15,9 +15,11 @@ namespace mpeg4face {
 
 // How the encoder codes FAPs. Predictive is the standard's coding_type 0 (quantised values and
 // frame-to-frame differences, adaptive arithmetic coding). Dct is coding_type 1: 16-frame
-// segments, DCT per FAP (docs/dct-mode.md; its syntax is the project's own).
-enum class FapCodingMode { Predictive, Dct };
-std::string_view codingModeName(FapCodingMode mode);  // "predictive", "dct"
+// segments, DCT per FAP (docs/dct-mode.md; its syntax is the project's own). Pca: the KLT of
+// each FAP group, basis in a stream header, components coded by the predictive or DCT mode
+// (docs/pca-mode.md, the project's own syntax).
+enum class FapCodingMode { Predictive, Dct, Pca };
+std::string_view codingModeName(FapCodingMode mode);  // "predictive", "dct", "pca"
 std::optional<FapCodingMode> parseCodingMode(std::string_view name);
 
 struct FbaEncodeOptions {
@@ -32,6 +34,12 @@ struct FbaEncodeOptions {
   // (1..15; Tekalp-Ostermann 2.2.2 gives the ratio 1/4). intraPeriod counts frames too: a
   // segment is intra when intraPeriod frames have been sent since the last intra segment began.
   int dcDivisor = 4;
+  // Pca mode: the coder of the components (Predictive or Dct; fapQuant is its factor), the
+  // energy fraction the kept components of a group hold (Tao et al.: 0.98), and the fraction
+  // bits of the basis carried in the header (1..15).
+  FapCodingMode pcaTemporal = FapCodingMode::Predictive;
+  double pcaEnergy = 0.98;
+  int pcaBasisBits = 4;
 };
 
 struct FbaEncodeStats {
