@@ -188,7 +188,8 @@ class VertexResolver {
     if (mesh) return bind(*mesh, vertex, binding);
     const int meshCount = static_cast<int>(model_.meshes.size());
     if (meshCount == 0) return "the model has no mesh to bind vertices to";
-    if (meshCount == 1) return bind(0, vertex, binding);
+    // A file's vertex numbers count vertices no face uses, which the reader drops: even one
+    // mesh is looked up through sourceIndex.
     const bool bySource =
         std::any_of(model_.meshes.begin(), model_.meshes.end(),
                     [](const IndexedFaceSet& m) { return !m.sourceIndex.empty(); });
@@ -210,6 +211,7 @@ class VertexResolver {
       binding.vertex = it->second.second;
       return {};
     }
+    if (meshCount == 1) return bind(0, vertex, binding);
     int first = 0;  // the meshes' vertices counted one after the other
     for (int m = 0; m < meshCount; ++m) {
       const int count = model_.meshes[m].vertexCount();

@@ -124,6 +124,20 @@ TEST(FeaturePointCsv, VerticesOfSeveralMeshes) {
   EXPECT_TRUE(contains(notHeld.what(), "no mesh holds vertex 4")) << notHeld.what();
 }
 
+TEST(FeaturePointCsv, OneMeshObjCountsTheFilesVertices) {
+  // Vertex 2 is used by no face, so the reader drops it; the CSV's 3 is still the file's
+  // fourth vertex (0-based 3), which is the mesh's vertex 2.
+  const FaceModel obj =
+      mpeg4face::parseObj("v 0 0 0\nv 1 0 0\nv 9 9 9\nv 0 1 0\nf 1 2 4\n", "one.obj");
+  ASSERT_EQ(obj.meshes.size(), 1u);
+  ASSERT_EQ(obj.meshes[0].vertexCount(), 3);
+  const FeaturePointCsv csv = parse("fp,vertex\n2.1,3\n", obj);
+  EXPECT_EQ(csv.featurePoints.at("2.1").mesh, 0);
+  EXPECT_EQ(csv.featurePoints.at("2.1").vertex, 2);
+  const Error dropped = errorOf([&] { parse("fp,vertex\n2.1,2\n", obj); });
+  EXPECT_TRUE(contains(dropped.what(), "no mesh holds vertex 2")) << dropped.what();
+}
+
 TEST(FeaturePointCsv, MalformedUnknownFeaturePoint) {
   const Error e = malformed("csv_unknown_fp.csv");
   EXPECT_EQ(e.file(), (kData / "malformed" / "csv_unknown_fp.csv").string());
