@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fat_test_face.hpp"
 #include "mpeg4face/clone.hpp"
 #include "mpeg4face/fat_evaluate.hpp"
 #include "mpeg4face/fat_generate.hpp"
@@ -16,54 +17,9 @@
 
 using namespace mpeg4face;
 
-namespace {
+using mpeg4face::test::testFace;
 
-// A 13 x 13 grid face (transform "Face") with an eye mesh under its child transform
-// "LeftEyeX", and free feature points giving ES0 0.06, IRISD0 0.012, ENS0 0.05, MNS0 0.03,
-// MW0 0.05.
-FaceModel testFace() {
-  FaceModel model;
-  IndexedFaceSet face;
-  face.name = "Face";
-  constexpr int kSide = 13;
-  face.coord.resize(kSide * kSide, 3);
-  for (int i = 0; i < kSide; ++i) {
-    for (int j = 0; j < kSide; ++j) {
-      const double x = -0.1 + 0.2 * j / (kSide - 1), y = -0.12 + 0.24 * i / (kSide - 1);
-      face.coord.row(i * kSide + j) << x, y, 0.1 - 2 * (x * x + y * y);
-      if (i + 1 < kSide && j + 1 < kSide) {
-        const int v = i * kSide + j;
-        face.coordIndex.insert(face.coordIndex.end(), {v, v + 1, v + kSide + 1, v + kSide, -1});
-      }
-    }
-  }
-  model.addMeshWithTransform(face);
-  IndexedFaceSet eye;
-  eye.name = "LeftEye";
-  eye.coord.resize(4, 3);
-  eye.coord << 0, 0, 0.012, 0.01, 0, 0, -0.01, 0, 0, 0, 0.01, 0;
-  eye.coordIndex = {0, 1, 2, -1, 0, 2, 3, -1};
-  model.meshes.push_back(eye);
-  Transform eyeX;
-  eyeX.name = "LeftEyeX";
-  eyeX.translation = {0.03, 0.03, 0.07};
-  eyeX.rotation = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1, 2, 0).normalized());
-  eyeX.meshes = {1};
-  model.transforms.push_back(eyeX);
-  model.transforms[0].children = {1};
-  const auto bind = [&](const char* id, double x, double y, double z) {
-    model.featurePoints[id] = {-1, -1, {x, y, z}};
-  };
-  bind("3.5", 0.03, 0.03, 0.08);
-  bind("3.6", -0.03, 0.03, 0.08);
-  bind("3.1", 0.03, 0.036, 0.08);
-  bind("3.3", 0.03, 0.024, 0.08);
-  bind("9.15", 0, -0.02, 0.1);
-  bind("2.2", 0, -0.05, 0.09);
-  bind("8.3", 0.025, -0.05, 0.09);
-  bind("8.4", -0.025, -0.05, 0.09);
-  return model;
-}
+namespace {
 
 FaceDefMesh meshTable(int mesh, std::vector<int> borders, std::vector<int> coordIndex,
                       Points3 displacements) {
