@@ -21,20 +21,10 @@
 #include "mpeg4face/feature_point_csv.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/vrml.hpp"
+#include "paths.hpp"
 
 namespace mpeg4face::cli {
 namespace {
-
-std::string extensionOf(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-bool isGltf(const std::string& path) {
-  const std::string ext = extensionOf(path);
-  return ext == ".glb" || ext == ".gltf";
-}
 
 struct Args {
   std::string source, target, output;

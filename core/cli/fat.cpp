@@ -22,20 +22,10 @@
 #include "mpeg4face/obj.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/vrml.hpp"
+#include "paths.hpp"
 
 namespace mpeg4face::cli {
 namespace {
-
-std::string extensionOf(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-bool isGltf(const std::string& path) {
-  const std::string ext = extensionOf(path);
-  return ext == ".glb" || ext == ".gltf";
-}
 
 // Positional arguments and the options every FAT command shares.
 struct Args {
