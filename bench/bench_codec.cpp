@@ -83,7 +83,7 @@ void report(const char* what, double seconds, long values, double baseline) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   constexpr int kRuns = 7;
   constexpr int kFrames = 100000;  // about 67 minutes at 25 frames per second
   const mpeg4face::FapStream stream = talkingHead(kFrames);
@@ -103,13 +103,21 @@ int main() {
   report("baseline: copy the sent values", baseline, values, baseline);
 
   using mpeg4face::FapCodingMode;
-  for (const mpeg4face::FbaEncodeOptions options :
-       {mpeg4face::FbaEncodeOptions{.mode = FapCodingMode::Predictive, .fapQuant = 1},
-        mpeg4face::FbaEncodeOptions{
-            .mode = FapCodingMode::Predictive, .fapQuant = 1, .intraPeriod = 25},
-        mpeg4face::FbaEncodeOptions{.mode = FapCodingMode::Dct, .fapQuant = 1},
-        mpeg4face::FbaEncodeOptions{
-            .mode = FapCodingMode::Dct, .fapQuant = 1, .intraPeriod = 25}}) {
+  using Options = mpeg4face::FbaEncodeOptions;
+  const std::vector<Options> modes{
+      Options{.mode = FapCodingMode::Predictive, .fapQuant = 1},
+      Options{.mode = FapCodingMode::Predictive, .fapQuant = 1, .intraPeriod = 25},
+      Options{.mode = FapCodingMode::Dct, .fapQuant = 1},
+      Options{.mode = FapCodingMode::Dct, .fapQuant = 1, .intraPeriod = 25},
+      Options{.mode = FapCodingMode::Pca, .fapQuant = 1},
+      Options{.mode = FapCodingMode::Pca, .fapQuant = 1, .pcaTemporal = FapCodingMode::Dct}};
+  for (const Options& options : modes) {
+    const std::string name = std::string(mpeg4face::codingModeName(options.mode)) +
+                             (options.mode == FapCodingMode::Pca
+                                  ? "+" + std::string(mpeg4face::codingModeName(options.pcaTemporal))
+                                  : "");
+    // Arguments, if any, name the modes to run (e.g. "dct pca+dct"), for profiling one.
+    if (argc > 1 && std::find(argv + 1, argv + argc, name) == argv + argc) continue;
     mpeg4face::FbaEncoding enc;
     const double encode =
         medianSeconds(kRuns, [&] { enc = mpeg4face::encodeFba(stream, options); });
@@ -121,7 +129,7 @@ int main() {
     }
     std::printf(
         "\n%s, fap_quant %d, intra period %d: %llu bits, %.3f bits/value, %d intra planes\n",
-        std::string(mpeg4face::codingModeName(options.mode)).c_str(), options.fapQuant,
+        name.c_str(), options.fapQuant,
         options.intraPeriod, static_cast<unsigned long long>(enc.stats.bits),
         static_cast<double>(enc.stats.bits) / static_cast<double>(values), enc.stats.intraFrames);
     report("encodeFba", encode, values, baseline);

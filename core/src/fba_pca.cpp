@@ -210,21 +210,23 @@ void encodePca(std::span<const FapFrame> frames, const FbaEncodeOptions& options
       }
     }
     if (k == 0) continue;
-    // The components the decoder's (quantised) basis reproduces best, in the weighted norm.
-    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> solver(weight.asDiagonal() *
-                                                                         basis);
+    // The components the decoder's (quantised) basis reproduces best, in the weighted norm:
+    // the weighted basis's pseudo-inverse applied to every frame at once.
+    const Eigen::MatrixXd project =
+        Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(weight.asDiagonal() * basis)
+            .pseudoInverse() *
+        weight.asDiagonal();
+    Eigen::VectorXd mean(m);
+    for (Eigen::Index i = 0; i < m; ++i)
+      mean(i) = static_cast<double>(h.mean[static_cast<size_t>(i)]);
+    const Eigen::MatrixXd v = (a.values.rowwise() - mean.transpose()) * project.transpose();
+    const int firstSlot = pcaComponentSlot(h.group, 0);
     for (size_t t = 0; t < frames.size(); ++t) {
-      Eigen::VectorXd d(m);
-      for (Eigen::Index i = 0; i < m; ++i) {
-        d(i) = (a.values(static_cast<Eigen::Index>(t), i) -
-                static_cast<double>(h.mean[static_cast<size_t>(i)])) *
-               weight(i);
-      }
-      const Eigen::VectorXd v = solver.solve(d);
       for (int j = 0; j < k; ++j) {
-        const double c = std::clamp(std::round(v(j)), double{-kDctMaxValue}, double{kDctMaxValue});
-        if (c != std::round(v(j))) ++output.stats.clippedValues;
-        components[t].set(pcaComponentSlot(h.group, j), static_cast<int>(c));
+        const double r = std::round(v(static_cast<Eigen::Index>(t), j));
+        const double c = std::clamp(r, double{-kDctMaxValue}, double{kDctMaxValue});
+        if (c != r) ++output.stats.clippedValues;
+        components[t].set(firstSlot + j, static_cast<int>(c));
       }
     }
   }
@@ -302,12 +304,10 @@ std::vector<FapFrame> reconstructPca(const PcaHeader& header, std::span<const Fa
   for (size_t t = 0; t < components.size(); ++t) {
     const FapFrame& c = components[t];
     FapFrame& f = frames[t];
-    const std::string where =
-        "frame " + std::to_string(t) + " (number " + std::to_string(c.number) + ")";
     for (int fap = 3; fap <= kFapCount; ++fap) {
-      if (c.has(fap) != slots[static_cast<size_t>(fap - 1)]) {
+      if (c.has(fap) != slots[static_cast<size_t>(fap - 1)]) [[unlikely]] {
         throw Error(std::string(source), 0, "FAP " + std::to_string(fap),
-                    where + ": " +
+                    "frame " + std::to_string(t) + " (number " + std::to_string(c.number) + "): " +
                         (c.has(fap) ? "sent, but it carries no PCA component"
                                     : "carries a PCA component and is not sent"));
       }
@@ -319,10 +319,11 @@ std::vector<FapFrame> reconstructPca(const PcaHeader& header, std::span<const Fa
     f.expression = c.expression;
     for (const PcaHeaderGroup& h : header.groups) {
       const size_t k = static_cast<size_t>(h.components);
+      const int firstSlot = pcaComponentSlot(h.group, 0);
       for (size_t i = 0; i < h.faps.size(); ++i) {
         int64_t sum = 0;
         for (size_t j = 0; j < k; ++j) {
-          sum += h.basis[i * k + j] * c.value(pcaComponentSlot(h.group, static_cast<int>(j)));
+          sum += h.basis[i * k + j] * c.value(firstSlot + static_cast<int>(j));
         }
         const int64_t x = h.mean[i] + roundShift(sum, header.basisBits);
         f.set(h.faps[i], static_cast<int>(std::clamp<int64_t>(x, -kMaxFbaValue, kMaxFbaValue)));
