@@ -86,13 +86,19 @@ void ArithmeticEncoder::encode(int symbol, AdaptiveModel& model) {
   // [cumul(s + 1), cumul(s)) with cumul(s) = total - countBelow(s).
   const uint32_t total = model.total();
   const uint32_t upper = total - model.countBelow(symbol);
-  narrow(upper - model.count(symbol), upper, total);
+  narrow(upper - model.count(symbol), upper, [total](uint32_t x) { return x / total; });
   model.update(symbol);
 }
 
 void ArithmeticEncoder::encodeUniform(int symbol, int symbolCount) {
   const auto upper = static_cast<uint32_t>(symbolCount - symbol);
-  narrow(upper - 1, upper, static_cast<uint32_t>(symbolCount));
+  const auto total = static_cast<uint32_t>(symbolCount);
+  narrow(upper - 1, upper, [total](uint32_t x) { return x / total; });
+}
+
+void ArithmeticEncoder::encodeBits(uint32_t bits, int count) {
+  const uint32_t upper = (1u << count) - bits;
+  narrow(upper - 1, upper, [count](uint32_t x) { return x >> count; });
 }
 
 // Writes `count` (1..16) bits with the stuffing rule. Where no 1 needs stuffing (the zero run
@@ -138,11 +144,12 @@ void ArithmeticEncoder::emit(uint32_t bits, int count) {
 // done a run at a time. The first loop sends exactly the leading bits low and high share. After
 // it low < q2 <= high, and each step of the second (x -> 2x - q2 mod 2^16) drops bit 14 of
 // both, so it runs while low has a 1 and high a 0 there, and leaves bit 15 toggled.
-void ArithmeticEncoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
+template <typename Scale>
+void ArithmeticEncoder::narrow(uint32_t lower, uint32_t upper, Scale scale) {
   uint32_t low = low_, high = high_;
   const uint32_t length = high - low + 1;
-  high = low - 1 + length * upper / total;
-  low += length * lower / total;
+  high = low - 1 + scale(length * upper);
+  low += scale(length * lower);
   const int settled = std::countl_zero(static_cast<uint16_t>(low ^ high));
   if (settled > 0) {
     emit(low >> (16 - settled), settled);
@@ -219,7 +226,7 @@ int ArithmeticDecoder::decode(AdaptiveModel& model) {
   uint32_t below = 0;
   const int symbol = model.find(target(total), below);
   const uint32_t upper = total - below;
-  narrow(upper - model.count(symbol), upper, total);
+  narrow(upper - model.count(symbol), upper, [total](uint32_t x) { return x / total; });
   model.update(symbol);
   return symbol;
 }
@@ -227,17 +234,25 @@ int ArithmeticDecoder::decode(AdaptiveModel& model) {
 int ArithmeticDecoder::decodeUniform(int symbolCount) {
   const auto total = static_cast<uint32_t>(symbolCount);
   const uint32_t symbol = target(total);
-  narrow(total - symbol - 1, total - symbol, total);
+  narrow(total - symbol - 1, total - symbol, [total](uint32_t x) { return x / total; });
   return static_cast<int>(symbol);
+}
+
+uint32_t ArithmeticDecoder::decodeBits(int count) {
+  const uint32_t total = 1u << count;
+  const uint32_t bits = target(total);
+  narrow(total - bits - 1, total - bits, [count](uint32_t x) { return x >> count; });
+  return bits;
 }
 
 // ArithmeticEncoder::narrow's runs; the code value follows low and high, taking in a coder
 // bit per doubling.
-void ArithmeticDecoder::narrow(uint32_t lower, uint32_t upper, uint32_t total) {
+template <typename Scale>
+void ArithmeticDecoder::narrow(uint32_t lower, uint32_t upper, Scale scale) {
   uint32_t low = low_, high = high_;
   const uint32_t length = high - low + 1;
-  high = low - 1 + length * upper / total;
-  low += length * lower / total;
+  high = low - 1 + scale(length * upper);
+  low += scale(length * lower);
   const int settled = std::countl_zero(static_cast<uint16_t>(low ^ high));
   if (settled > 0) {
     low = (low << settled) & kTop;

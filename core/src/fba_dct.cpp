@@ -180,10 +180,14 @@ class SegmentWriter {
  private:
   void bit(bool b, AdaptiveModel& model) { enc_.encode(b ? 1 : 0, model); }
 
-  // Bits below the leading 1 of `magnitude` (of size class `size`), most significant first.
-  void mantissa(std::uint64_t magnitude, int size) {
-    for (int b = size - 2; b >= 0; --b)
-      enc_.encode(static_cast<int>((magnitude >> b) & 1), m_.mantissa);
+  // The low `count` bits of `value` as raw-bit symbols of at most kMaxRawBits, most
+  // significant first.
+  void rawBits(std::uint64_t value, int count) {
+    for (; count > 0;) {
+      const int n = std::min(count, kMaxRawBits);
+      count -= n;
+      enc_.encodeBits(static_cast<std::uint32_t>((value >> count) & ((1u << n) - 1)), n);
+    }
   }
 
   void writeNumbers(const Segment& seg) {
@@ -193,7 +197,7 @@ class SegmentWriter {
     for (int n = 1; skips && n < seg.length; ++n) {
       const std::int64_t skip = std::int64_t{seg.numbers[n]} - seg.numbers[n - 1] - 1;
       enc_.encode(sizeClass(skip), m_.countSize);
-      mantissa(static_cast<std::uint64_t>(skip), sizeClass(skip));
+      if (skip > 0) rawBits(static_cast<std::uint64_t>(skip), sizeClass(skip) - 1);
     }
   }
 
@@ -247,14 +251,15 @@ class SegmentWriter {
     }
   }
 
-  // A level: its size class (less sizeOffset) in `sizes`, then for v != 0 its sign and
-  // mantissa.
+  // A level: its size class s (less sizeOffset) in `sizes`, then for v != 0 s raw bits: the
+  // sign (1 = negative) and the s - 1 bits of |v| below its leading 1.
   void writeLevel(AdaptiveModel& sizes, int sizeOffset, std::int64_t v) {
     const int size = sizeClass(v);
     enc_.encode(size - sizeOffset, sizes);
     if (size == 0) return;
-    bit(v < 0, m_.sign);
-    mantissa(static_cast<std::uint64_t>(v < 0 ? -v : v), size);
+    const auto magnitude = static_cast<std::uint64_t>(v < 0 ? -v : v);
+    const std::uint64_t leadingOne = std::uint64_t{1} << (size - 1);
+    rawBits((v < 0 ? leadingOne : 0) | (magnitude - leadingOne), size);
   }
 
   void writeLevels(const std::array<std::int64_t, kN>& levels, std::int64_t& dc) {
@@ -346,11 +351,14 @@ class SegmentReader {
  private:
   bool bit(AdaptiveModel& model) { return dec_.decode(model) != 0; }
 
-  std::uint64_t mantissa(int size) {
-    std::uint64_t magnitude = 1;
-    for (int b = size - 2; b >= 0; --b)
-      magnitude = 2 * magnitude + static_cast<std::uint64_t>(dec_.decode(m_.mantissa));
-    return magnitude;
+  std::uint64_t rawBits(int count) {
+    std::uint64_t value = 0;
+    for (; count > 0;) {
+      const int n = std::min(count, kMaxRawBits);
+      count -= n;
+      value = (value << n) | dec_.decodeBits(n);
+    }
+    return value;
   }
 
   // The reader runs ahead of the arithmetic decoder, which reads 0 bits past the end of the
@@ -370,7 +378,8 @@ class SegmentReader {
       std::int64_t skip = 0;
       if (skips) {
         const int size = dec_.decode(m_.countSize);
-        skip = size == 0 ? 0 : static_cast<std::int64_t>(mantissa(size));
+        if (size > 0)
+          skip = static_cast<std::int64_t>((std::uint64_t{1} << (size - 1)) | rawBits(size - 1));
       }
       number += 1 + skip;
       if (number > limits_.maxFrameNumber)
@@ -430,9 +439,10 @@ class SegmentReader {
   std::int64_t readLevel(AdaptiveModel& sizes, int sizeOffset) {
     const int size = dec_.decode(sizes) + sizeOffset;
     if (size == 0) return 0;
-    const bool negative = bit(m_.sign);
-    const auto magnitude = static_cast<std::int64_t>(mantissa(size));
-    return negative ? -magnitude : magnitude;
+    const std::uint64_t leadingOne = std::uint64_t{1} << (size - 1);
+    const std::uint64_t bits = rawBits(size);
+    const auto magnitude = static_cast<std::int64_t>(leadingOne | (bits & (leadingOne - 1)));
+    return (bits & leadingOne) != 0 ? -magnitude : magnitude;
   }
 
   void readLevels(std::array<std::int64_t, kN>& levels, std::int64_t& dc) {

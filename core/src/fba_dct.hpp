@@ -35,8 +35,6 @@ struct DctModels {
   std::array<AdaptiveModel, 2> acRun{AdaptiveModel(16), AdaptiveModel(16)};
   // Size class 1..25 of a non-zero AC level, less 1; [0] coefficients 1-2, [1] 3-15.
   std::array<AdaptiveModel, 2> acSize{AdaptiveModel(25), AdaptiveModel(25)};
-  AdaptiveModel sign{2};
-  AdaptiveModel mantissa{2};
 };
 
 // What later planes refer to, tracked alike by encoder and decoder; an intra plane resets it.

@@ -2,6 +2,7 @@
 #include "fba_pca.hpp"
 
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <string>
 
@@ -45,39 +46,44 @@ struct GroupAnalysis {
 std::vector<GroupAnalysis> analyse(std::span<const FapFrame> frames,
                                    const FbaEncodeOptions& options) {
   checkPcaOptions(options);
-  FapStream stream;
-  stream.frames.assign(frames.begin(), frames.end());
-  const std::vector<FapState> states = resolveFapStream(stream);
+  std::bitset<kFapCount> sent;
+  for (const FapFrame& f : frames) sent |= f.mask;
   std::vector<GroupAnalysis> groups;
   for (const FapGroupInfo& g : fapGroupTable()) {
     if (g.number < kFirstPcaGroup) continue;
     GroupAnalysis a;
     a.info.group = g.number;
     for (int fap = g.firstFap; fap <= g.lastFap; ++fap) {
-      if (std::any_of(frames.begin(), frames.end(),
-                      [fap](const FapFrame& f) { return f.has(fap); })) {
-        a.info.faps.push_back(fap);
-      }
+      if (sent[static_cast<size_t>(fap - 1)]) a.info.faps.push_back(fap);
     }
     if (a.info.faps.empty()) continue;
-    const auto rows = static_cast<Eigen::Index>(frames.size());
-    const auto cols = static_cast<Eigen::Index>(a.info.faps.size());
-    a.values.resize(rows, cols);
-    Eigen::MatrixXd weighted(rows, cols);
-    for (Eigen::Index t = 0; t < rows; ++t) {
-      for (Eigen::Index i = 0; i < cols; ++i) {
-        const int fap = a.info.faps[static_cast<size_t>(i)];
-        a.values(t, i) = states[static_cast<size_t>(t)].value(fap);
-        weighted(t, i) = a.values(t, i) / quantStep(fap);
+    a.values.resize(static_cast<Eigen::Index>(frames.size()),
+                    static_cast<Eigen::Index>(a.info.faps.size()));
+    groups.push_back(std::move(a));
+  }
+  // The values a decoder holds after each frame (resolved one frame at a time: a stream of
+  // states would be as large as the stream).
+  FapState state;
+  for (size_t t = 0; t < frames.size(); ++t) {
+    applyFrame(state, frames[t]);
+    for (GroupAnalysis& a : groups) {
+      for (size_t i = 0; i < a.info.faps.size(); ++i) {
+        a.values(static_cast<Eigen::Index>(t), static_cast<Eigen::Index>(i)) =
+            state.value(a.info.faps[i]);
       }
     }
-    a.klt = computeKlt(weighted);
+  }
+  for (GroupAnalysis& a : groups) {
+    Eigen::VectorXd perStep(static_cast<Eigen::Index>(a.info.faps.size()));
+    for (size_t i = 0; i < a.info.faps.size(); ++i) {
+      perStep(static_cast<Eigen::Index>(i)) = 1.0 / quantStep(a.info.faps[i]);
+    }
+    a.klt = computeKlt(a.values * perStep.asDiagonal());
     a.info.eigenvalues = a.klt.eigenvalues;
     a.info.components =
         componentsForEnergy(std::span<const double>(a.klt.eigenvalues.data(),
                                                     static_cast<size_t>(a.klt.eigenvalues.size())),
                             options.pcaEnergy);
-    groups.push_back(std::move(a));
   }
   return groups;
 }

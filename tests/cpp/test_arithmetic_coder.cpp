@@ -302,6 +302,38 @@ TEST(ArithmeticCoder, UniformCodingIsAFreshModel) {
   EXPECT_EQ(r.position(), uniform.bitCount());
 }
 
+// Raw bits are uniform symbols of 2^count values, scaled by a shift: the same bits as
+// encodeUniform, mixed with adaptive symbols, and they decode back.
+TEST(ArithmeticCoder, RawBitsAreUniformSymbolsOfAPowerOfTwo) {
+  std::mt19937 rng(5);
+  std::vector<std::pair<uint32_t, int>> symbols;  // (bits, count)
+  BitWriter raw, uniform;
+  ArithmeticEncoder a(raw), b(uniform);
+  AdaptiveModel modelA(7), modelB(7);
+  for (int i = 0; i < 20000; ++i) {
+    const int count = 1 + static_cast<int>(rng() % mpeg4face::kMaxRawBits);
+    const auto bits = static_cast<uint32_t>(rng() % (1u << count));
+    symbols.emplace_back(bits, count);
+    a.encodeBits(bits, count);
+    b.encodeUniform(static_cast<int>(bits), 1 << count);
+    const int s = static_cast<int>(rng() % 7);
+    a.encode(s, modelA);
+    b.encode(s, modelB);
+  }
+  a.flush();
+  b.flush();
+  EXPECT_EQ(raw.bytes(), uniform.bytes());
+  BitReader r(raw.bytes());
+  ArithmeticDecoder dec(r);
+  AdaptiveModel model(7);
+  for (const auto& [bits, count] : symbols) {
+    ASSERT_EQ(dec.decodeBits(count), bits);
+    dec.decode(model);
+  }
+  dec.finish("segment");
+  EXPECT_EQ(r.position(), raw.bitCount());
+}
+
 TEST(AdaptiveModel, ResetRestoresCountsOfOne) {
   AdaptiveModel model(10);
   for (int i = 0; i < 100; ++i) model.update(3);
@@ -432,6 +464,21 @@ TEST(ArithmeticCoder, SpendsAtMostAHundredthOfABitPerSymbolOverTheModel) {
       s.push_back(std::clamp(60 + static_cast<int>(std::lround(d(rng))), 0, 120));
     }
     cases.emplace_back("gaussian over 121", measure(s, 121));
+  }
+  {
+    // The DCT mode's raw bits (B(n), docs/dct-mode.md): n bits cost n bits ideally.
+    Efficiency eff;
+    BitWriter w;
+    ArithmeticEncoder enc(w);
+    for (size_t i = 0; i < kCount; ++i) {
+      const int count = 1 + static_cast<int>(rng() % mpeg4face::kMaxRawBits);
+      enc.encodeBits(static_cast<uint32_t>(rng() % (1u << count)), count);
+      eff.idealBits += count;
+    }
+    enc.flush();
+    eff.actualBits = w.bitCount();
+    eff.symbols = kCount;
+    cases.emplace_back("raw 1..8 bits", eff);
   }
   for (const auto& [name, eff] : cases) {
     std::printf("%-20s ideal %.4f bit/symbol, actual %.4f, overhead %+.6f\n", name.c_str(),

@@ -485,7 +485,7 @@ TEST(DctCodec, MalformedFiles) {
            {"dct_truncated.fba", "FAP 48 DC", "the data ended before this point: truncated?"},
            {"dct_zero_dc_divisor.fba", "dc_divisor", "is 0"},
            {"dct_zero_fap_quant.fba", "fap_quant", "not a DCT mode step"},
-           {"dct_flipped_bit.fba", "FAP 5 AC run",
+           {"dct_flipped_bit.fba", "FAP 3 AC run",
             "goes past coefficient 15 (segment from frame 0)"}}) {
     const Error e = malformed(file);
     EXPECT_EQ(e.file(), file);
@@ -495,7 +495,7 @@ TEST(DctCodec, MalformedFiles) {
 }
 
 TEST(DctCodec, TheSampleStreamDecodes) {
-  // tests/data/dct/irregular.fba is irregularStream(70) as the first version of the DCT mode
+  // tests/data/dct/irregular.fba is irregularStream(70) as the DCT mode
   // encoded it (dct(): fap_quant 1, dc_divisor 4); the malformed dct_* files are made from it
   // (tests/data/malformed/dct_generate.py).
   const std::string data = readFile(kData / "dct" / "irregular.fba");

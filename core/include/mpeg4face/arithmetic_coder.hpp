@@ -71,6 +71,10 @@ class AdaptiveModel {
   size_t topBit_ = 1;  // highest power of two <= symbolCount
 };
 
+// At most this many bits per encodeBits symbol, so the interval (> 2^14 after renormalising)
+// keeps >= 64 values per symbol: the rounding costs < 0.01 bit per symbol on average.
+constexpr int kMaxRawBits = 8;
+
 class ArithmeticEncoder {
  public:
   // Starts a segment at the writer's current position.
@@ -80,13 +84,18 @@ class ArithmeticEncoder {
   // Codes `symbol` as a fresh AdaptiveModel(symbolCount) would (all counts 1), for a symbol
   // that is the only one its model codes before a reset (the FAPs of an intra plane).
   void encodeUniform(int symbol, int symbolCount);
+  // The same for symbolCount = 2^count (count 1..kMaxRawBits): `count` raw bits as one symbol,
+  // scaled by a shift instead of a division.
+  void encodeBits(uint32_t bits, int count);
   // Ends the segment with the 2 (+ pending) bits that pin the code value down, so the decoder
   // needs nothing after them; the next encode() starts a new segment.
   void flush();
 
  private:
-  // Narrows the interval to [lower, upper) of total and writes the settled bits.
-  void narrow(uint32_t lower, uint32_t upper, uint32_t total);
+  // Narrows the interval to [lower, upper) of total (scale(x) = x / total) and writes the
+  // settled bits.
+  template <typename Scale>
+  void narrow(uint32_t lower, uint32_t upper, Scale scale);
   void emit(uint32_t bits, int count);  // settled coder bits, pending bits after the first
   void put(uint32_t bits, int count);   // bits with the stuffing rule
 
@@ -105,6 +114,8 @@ class ArithmeticDecoder {
   int decode(AdaptiveModel& model);
   // The counterpart of ArithmeticEncoder::encodeUniform.
   int decodeUniform(int symbolCount);
+  // The counterpart of ArithmeticEncoder::encodeBits.
+  uint32_t decodeBits(int count);
   // Ends the segment: moves the reader to just after the encoder's flush bits. Throws
   // mpeg4face::Error naming `element` if the segment runs past the data or breaks the
   // stuffing rule.
@@ -114,7 +125,8 @@ class ArithmeticDecoder {
   // Where the code value lies in [0, total), counted from the bottom as AdaptiveModel::find
   // expects it.
   uint32_t target(uint32_t total) const;
-  void narrow(uint32_t lower, uint32_t upper, uint32_t total);
+  template <typename Scale>
+  void narrow(uint32_t lower, uint32_t upper, Scale scale);
   uint32_t get(int count);        // coder bits, stuffing removed
   uint32_t getSlowly(int count);  // get() bit by bit, where a stuffed 1 may lie
 

@@ -10,8 +10,8 @@ docs/bitstream.md gives them:
                            decoding past the end gives FAP 48 a DC level out of range
 - dct_zero_dc_divisor.fba  dc_divisor 0 in the intra plane
 - dct_zero_fap_quant.fba   fap_quant 0 (no quantisation) in a DCT intra plane
-- dct_flipped_bit.fba      bit 259 (byte 32, bit 3), in the first segment's coded data,
-                           flipped: FAP 5's AC runs then pass coefficient 15
+- dct_flipped_bit.fba      bit 207 (byte 25, bit 7), in the first segment's coded data,
+                           flipped: FAP 3's AC runs then pass coefficient 15
 
 Run: python3 tests/data/malformed/dct_generate.py
 """
@@ -70,7 +70,7 @@ def main():
     valid = (HERE.parent / "dct" / "irregular.fba").read_bytes()
     fap_quant, dc_divisor = intra_fields(valid)
     flipped = bytearray(valid)
-    flipped[259 // 8] ^= 0x80 >> (259 % 8)
+    flipped[207 // 8] ^= 0x80 >> (207 % 8)
     files = {
         "dct_truncated.fba": valid[: len(valid) * 6 // 10],
         "dct_zero_dc_divisor.fba": with_bits(valid, dc_divisor, 4, 0),
