@@ -13,7 +13,6 @@ namespace {
 
 constexpr uint32_t kQ1 = 16384;
 constexpr uint32_t kQ2 = 32768;
-constexpr uint32_t kQ3 = 49152;
 constexpr uint32_t kTop = 65535;
 // Inside a segment a 1 is stuffed after this many consecutive 0 bits, so no segment can
 // emulate a start code (23 zeros and a 1).
