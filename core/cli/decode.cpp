@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 
+#include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fba_codec.hpp"
@@ -15,8 +16,7 @@ int runDecode(const std::vector<std::string>& args) {
   std::string input, output;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "-o") {
-      if (i + 1 >= args.size()) throw UsageError("-o needs an output file");
-      output = args[++i];
+      output = optionValue(args, i, "an output file");
     } else if (args[i].starts_with("-")) {
       throw UsageError("unknown option '" + args[i] + "'");
     } else if (input.empty()) {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
@@ -30,59 +31,28 @@ struct EncodeArgs {
   bool json = false;
 };
 
-int intArgument(const std::vector<std::string>& args, size_t& i, int min, int max) {
-  const std::string& option = args[i];
-  if (i + 1 >= args.size()) throw UsageError(option + " needs a number");
-  const std::string& text = args[++i];
-  size_t used = 0;
-  int value = 0;
-  try {
-    value = std::stoi(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || value < min || value > max) {
-    throw UsageError(option + " takes a whole number in " + std::to_string(min) + ".." +
-                     std::to_string(max) + ", not '" + text + "'");
-  }
-  return value;
-}
-
 EncodeArgs parseArgs(const std::vector<std::string>& args) {
   EncodeArgs out;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "-o") {
-      if (i + 1 >= args.size()) throw UsageError("-o needs an output file");
-      out.output = args[++i];
+      out.output = optionValue(args, i, "an output file");
     } else if (a == "--mode") {
-      if (i + 1 >= args.size()) throw UsageError("--mode needs a mode");
-      const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
+      const std::optional<FapCodingMode> mode = parseCodingMode(optionValue(args, i, "a mode"));
       out.autoMode = args[i] == "auto";
       if (!mode && !out.autoMode) {
         throw UsageError("unknown mode '" + args[i] + "' (modes: predictive, dct, pca, auto)");
       }
       if (mode) out.options.mode = *mode;
     } else if (a == "--psnr") {
-      if (i + 1 >= args.size()) throw UsageError("--psnr needs a target in dB");
-      const std::string& text = args[++i];
-      size_t used = 0;
-      double db = 0;
-      try {
-        db = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || !std::isfinite(db)) {
-        throw UsageError("--psnr takes a number of dB, not '" + text + "'");
-      }
-      out.psnrTarget = db;
+      const std::string& text = optionValue(args, i, "a target in dB");
+      out.psnrTarget = parseNumber(text);
+      if (!out.psnrTarget) throw UsageError("--psnr takes a number of dB, not '" + text + "'");
     } else if (a == "--fap-quant") {
       out.options.fapQuant = intArgument(args, i, 0, 31);
       out.fapQuantGiven = true;
     } else if (a == "--pca-temporal") {
-      if (i + 1 >= args.size()) throw UsageError("--pca-temporal needs a mode");
-      const std::optional<FapCodingMode> mode = parseCodingMode(args[++i]);
+      const std::optional<FapCodingMode> mode = parseCodingMode(optionValue(args, i, "a mode"));
       if (!mode || *mode == FapCodingMode::Pca) {
         throw UsageError("--pca-temporal takes predictive or dct, not '" + args[i] + "'");
       }

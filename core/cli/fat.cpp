@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
@@ -38,42 +39,21 @@ struct Args {
 
 Args parseArgs(const std::vector<std::string>& args, bool generateOptions, bool frameOption) {
   Args out;
-  const auto value = [&](size_t& i, const char* what) -> const std::string& {
-    if (i + 1 >= args.size()) throw UsageError(args[i] + " needs " + what);
-    return args[++i];
-  };
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "-o") {
-      out.output = value(i, "an output file");
+      out.output = optionValue(args, i, "an output file");
     } else if (generateOptions && a == "--feature-points") {
-      out.featurePoints = value(i, "a CSV file");
+      out.featurePoints = optionValue(args, i, "a CSV file");
     } else if (generateOptions && a == "--threshold") {
-      const std::string& text = value(i, "a number of FAPU");
-      size_t used = 0;
-      double t = -1;
-      try {
-        t = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || !std::isfinite(t) || t < 0) {
-        throw UsageError("--threshold takes a number >= 0, not '" + text + "'");
-      }
-      out.threshold = t;
+      out.threshold = numberArgument(args, i, "a number of FAPU", 0);
     } else if (frameOption && a == "--frame") {
-      const std::string& text = value(i, "a frame number");
-      size_t used = 0;
-      int n = -1;
-      try {
-        n = std::stoi(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || n < 0) {
+      const std::string& text = optionValue(args, i, "a frame number");
+      const std::optional<int> n = parseInt(text);
+      if (!n || *n < 0) {
         throw UsageError("--frame takes a frame number >= 0, not '" + text + "'");
       }
-      out.frame = n;
+      out.frame = *n;
     } else if (a.starts_with("-") && a != "-") {
       throw UsageError("unknown option '" + a + "'");
     } else {

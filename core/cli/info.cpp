@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/fapu.hpp"
 #include "mpeg4face/feature_point_csv.hpp"
@@ -27,8 +28,7 @@ InfoArgs parseArgs(const std::vector<std::string>& args) {
     if (a == "--json") {
       out.json = true;
     } else if (a == "--feature-points") {
-      if (i + 1 >= args.size()) throw UsageError("--feature-points needs a CSV file");
-      out.featurePoints = args[++i];
+      out.featurePoints = optionValue(args, i, "a CSV file");
     } else if (a.starts_with("-")) {
       throw UsageError("unknown option '" + a + "'");
     } else if (out.file.empty()) {

@@ -27,10 +27,11 @@ constexpr std::array kCommands{
             "  --json  print one JSON object (keys psnr_db, psnr_faps, faps, extra_faps)\n",
             mpeg4face::cli::runPsnr},
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
-            "mpeg4face encode IN.fap -o OUT.fba [--mode predictive] [--fap-quant Q]\n"
-            "                 [--intra-period N] [--json]\n"
+            "mpeg4face encode IN.fap -o OUT.fba [--mode predictive|dct|pca] [--fap-quant Q]\n"
+            "                 [--intra-period N] [--pca-temporal T] [--pca-basis-bits B] [--json]\n"
             "                 | --mode auto --psnr DB\n"
-            "  --mode M          predictive (quantised differences, arithmetic coded)\n"
+            "  --mode M          predictive (default): quantised differences, arithmetic coded\n"
+            "                    dct: 16-frame segments, a DCT per FAP (docs/dct-mode.md)\n"
             "                    pca: KLT per FAP group, basis in the header (docs/pca-mode.md)\n"
             "                    auto: the mode and fap_quant with the fewest bits whose PSNR\n"
             "                    reaches --psnr DB (every mode and fap_quant tried)\n"

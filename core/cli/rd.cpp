@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
@@ -30,8 +31,7 @@ RdArgs parseArgs(const std::vector<std::string>& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--csv" || a == "--plot") {
-      if (i + 1 >= args.size()) throw UsageError(a + " needs a file name");
-      (a == "--csv" ? out.csv : out.plot) = args[++i];
+      (a == "--csv" ? out.csv : out.plot) = optionValue(args, i, "a file name");
     } else if (a.starts_with("-")) {
       throw UsageError("unknown option '" + a + "'");
     } else if (out.input.empty()) {
@@ -58,8 +58,7 @@ std::string csvText(const std::vector<RdPoint>& points) {
   std::string text = "mode,fap_quant,bits,bits_per_sample,bits_per_second,psnr_db\n";
   for (const RdPoint& p : points) {
     char buffer[128];
-    std::snprintf(buffer, sizeof buffer, "%s,%d,%llu,%.6f,%.3f,",
-                  rdModeName(p).c_str(), p.fapQuant,
+    std::snprintf(buffer, sizeof buffer, "%s,%d,%llu,%.6f,%.3f,", rdModeName(p).c_str(), p.fapQuant,
                   static_cast<unsigned long long>(p.bits), p.bitsPerSample, p.bitsPerSecond);
     text += buffer + psnrField(p.psnr) + "\n";
   }
