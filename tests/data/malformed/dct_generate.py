@@ -17,20 +17,10 @@ Run: python3 tests/data/malformed/dct_generate.py
 """
 import pathlib
 
+from fba_bits import Bits
+
 HERE = pathlib.Path(__file__).resolve().parent
 GROUP_SIZES = [2, 16, 12, 8, 4, 5, 3, 10, 4, 4]  # FAPs per group, groups 1..10
-
-
-class Bits:
-    def __init__(self, data):
-        self.data, self.pos = data, 0
-
-    def read(self, count):
-        value = 0
-        for _ in range(count):
-            value = value * 2 + ((self.data[self.pos // 8] >> (7 - self.pos % 8)) & 1)
-            self.pos += 1
-        return value
 
 
 def intra_fields(data):

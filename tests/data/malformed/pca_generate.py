@@ -18,31 +18,11 @@ Run: python3 tests/data/malformed/pca_generate.py
 """
 import pathlib
 
+from fba_bits import Bits
+
 HERE = pathlib.Path(__file__).resolve().parent
 GROUPS = [(3, 18), (19, 30), (31, 38), (39, 42), (43, 47), (48, 50), (51, 60), (61, 64),
           (65, 68)]  # FAP groups 2..10
-
-
-class Bits:
-    def __init__(self, data):
-        self.data, self.pos = data, 0
-
-    def read(self, count):
-        value = 0
-        for _ in range(count):
-            value = value * 2 + ((self.data[self.pos // 8] >> (7 - self.pos % 8)) & 1)
-            self.pos += 1
-        return value
-
-    def ue(self):
-        zeros = 0
-        while self.read(1) == 0:
-            zeros += 1
-        return (1 << zeros) - 1 + self.read(zeros)
-
-    def se(self):
-        code = self.ue()
-        return (code + 1) // 2 if code % 2 else -(code // 2)
 
 
 def ue(value):
