@@ -78,7 +78,11 @@ struct Scene {
   }
 };
 
-Scene makeScene(const FaceModel& model) {
+// The tree alone (what a copy's motion needs), or with the meshes in model space and their
+// feature points (what identifying the parts needs).
+enum class SceneContent { Transforms, TransformsAndMeshes };
+
+Scene makeScene(const FaceModel& model, SceneContent content) {
   const int nt = static_cast<int>(model.transforms.size());
   const int nm = static_cast<int>(model.meshes.size());
   Scene s;
@@ -104,6 +108,7 @@ Scene makeScene(const FaceModel& model) {
   for (int mesh = 0; mesh < nm; ++mesh) {
     for (int t = s.holder[mesh]; t >= 0; t = s.parent[t]) s.subtreeMeshes[t].push_back(mesh);
   }
+  if (content == SceneContent::Transforms) return s;
   const std::vector<Eigen::Affine3d> meshWorld = model.meshWorldMatrices();
   s.geometry.resize(nm);
   for (int mesh = 0; mesh < nm; ++mesh) {
@@ -374,9 +379,9 @@ std::string_view rigidPartName(Kind kind) {
 RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
                              std::span<const DeformedCopy> sourceCopies, FaceModel& target) {
   RigidPartMap map;
-  const Scene source = makeScene(sourceNeutral);
+  const Scene source = makeScene(sourceNeutral, SceneContent::TransformsAndMeshes);
   const std::vector<bool> moves = movingTransforms(sourceNeutral, sourceCopies, source);
-  Scene goal = makeScene(target);
+  Scene goal = makeScene(target, SceneContent::TransformsAndMeshes);
   const Identified sourceParts = identify(sourceNeutral, source);
   const Identified targetParts = identify(target, goal);
   for (int p = 0; p < kPartCount; ++p) {
@@ -478,7 +483,7 @@ RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
         continue;
       }
       target.transforms.push_back(std::move(inserted));
-      goal = makeScene(target);
+      goal = makeScene(target, SceneContent::TransformsAndMeshes);
       t = index;
     }
     if (claimedTarget.count(t) != 0) {
@@ -490,7 +495,7 @@ RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
     if (rotates && (goal.pivot(target, t) - targetCentre).norm() >
                        kCentreTolerance * sizeOf(goal, part.targetMeshes)) {
       installCentre(target, goal, t, targetCentre);
-      goal = makeScene(target);
+      goal = makeScene(target, SceneContent::TransformsAndMeshes);
     }
     if (rotates) targetCentre = goal.pivot(target, t);
     part.targetTransform = t;
@@ -513,8 +518,10 @@ RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
 void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
                       const FapuMeasurement& sourceFapu, const DeformedCopy& sourceCopy,
                       const FapuMeasurement& targetFapu, FaceModel& targetCopy) {
-  const Scene source = makeScene(sourceNeutral);
-  const Scene goal = makeScene(targetCopy);  // neutral values: read before any change
+  if (map.parts.empty()) return;
+  const Scene source = makeScene(sourceNeutral, SceneContent::Transforms);
+  // Neutral values: read before any change.
+  const Scene goal = makeScene(targetCopy, SceneContent::Transforms);
   const int ns = static_cast<int>(sourceNeutral.transforms.size());
   const int nt = static_cast<int>(targetCopy.transforms.size());
   if (static_cast<int>(sourceCopy.model.transforms.size()) != ns) {

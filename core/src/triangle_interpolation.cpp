@@ -86,53 +86,67 @@ TriangleInterpolator::TriangleInterpolator(Points2 points, std::vector<int> tria
   for (const std::vector<int>& ids : members) {
     if (ids.empty()) continue;
     Level& level = levels_.emplace_back();
-    Eigen::AlignedBox2d box;
-    for (int t : ids) {
-      level.maxEdge = std::max(level.maxEdge, edges[static_cast<std::size_t>(t)]);
-      for (int k = 0; k < 3; ++k)
-        box.extend(Eigen::Vector2d(points_.row(
-            triangles_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)])));
+    for (int t : ids) level.maxEdge = std::max(level.maxEdge, edges[static_cast<std::size_t>(t)]);
+    // Cells of about the level's edge, at most about 4 per triangle.
+    buildGrid(level, ids, level.maxEdge, 4);
+  }
+  // The inside test's grid: every triangle in every cell its box touches, cells of about the
+  // median edge (at most about 8 per triangle), so that a query reads one cell of a few
+  // triangles instead of one cell per level.
+  std::vector<int> all(static_cast<std::size_t>(n));
+  for (int t = 0; t < n; ++t) all[static_cast<std::size_t>(t)] = t;
+  std::vector<double> sorted = edges;
+  std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+  buildGrid(inside_, all, sorted[static_cast<std::size_t>(n / 2)], 8);
+}
+
+void TriangleInterpolator::buildGrid(Level& level, std::span<const int> ids, double cellSize,
+                                     double maxCellsPerTriangle) const {
+  const auto boxOf = [&](int t) {
+    Eigen::AlignedBox2d b;
+    for (int k = 0; k < 3; ++k) {
+      b.extend(Eigen::Vector2d(
+          points_.row(triangles_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)])));
     }
-    // Cells of about the level's edge, at most about 4 per triangle and 4096 along a side.
-    const Eigen::Vector2d size = box.sizes();
-    const double count = static_cast<double>(ids.size());
-    level.cell = std::max({level.maxEdge, std::sqrt(size.x() * size.y() / (4 * count)),
-                           size.maxCoeff() / 4096, 1e-12 * (1 + box.max().cwiseAbs().maxCoeff())});
-    level.origin = box.min();
-    level.nx = std::max(1, static_cast<int>(std::ceil(size.x() / level.cell)));
-    level.ny = std::max(1, static_cast<int>(std::ceil(size.y() / level.cell)));
-    const auto cellRange = [&](int t, int& x0, int& y0, int& x1, int& y1) {
-      Eigen::AlignedBox2d b;
-      for (int k = 0; k < 3; ++k) {
-        b.extend(Eigen::Vector2d(points_.row(
-            triangles_[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)])));
-      }
-      level.cellOf(b.min(), x0, y0);
-      level.cellOf(b.max(), x1, y1);
-    };
-    std::vector<int> start(
-        static_cast<std::size_t>(level.nx) * static_cast<std::size_t>(level.ny) + 1, 0);
-    for (int t : ids) {
-      int x0, y0, x1, y1;
-      cellRange(t, x0, y0, x1, y1);
-      for (int y = y0; y <= y1; ++y) {
-        for (int x = x0; x <= x1; ++x)
-          ++start[static_cast<std::size_t>(y) * static_cast<std::size_t>(level.nx) +
-                  static_cast<std::size_t>(x) + 1];
-      }
+    return b;
+  };
+  Eigen::AlignedBox2d box;
+  for (int t : ids) box.extend(boxOf(t));
+  // At most 4096 cells along a side.
+  const Eigen::Vector2d size = box.sizes();
+  const double count = static_cast<double>(ids.size());
+  level.cell = std::max({cellSize, std::sqrt(size.x() * size.y() / (maxCellsPerTriangle * count)),
+                         size.maxCoeff() / 4096, 1e-12 * (1 + box.max().cwiseAbs().maxCoeff())});
+  level.origin = box.min();
+  level.nx = std::max(1, static_cast<int>(std::ceil(size.x() / level.cell)));
+  level.ny = std::max(1, static_cast<int>(std::ceil(size.y() / level.cell)));
+  const auto cellRange = [&](int t, int& x0, int& y0, int& x1, int& y1) {
+    const Eigen::AlignedBox2d b = boxOf(t);
+    level.cellOf(b.min(), x0, y0);
+    level.cellOf(b.max(), x1, y1);
+  };
+  std::vector<int> start(
+      static_cast<std::size_t>(level.nx) * static_cast<std::size_t>(level.ny) + 1, 0);
+  for (int t : ids) {
+    int x0, y0, x1, y1;
+    cellRange(t, x0, y0, x1, y1);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x)
+        ++start[static_cast<std::size_t>(y) * static_cast<std::size_t>(level.nx) +
+                static_cast<std::size_t>(x) + 1];
     }
-    for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-    level.cellStart = start;
-    level.cellTriangles.resize(static_cast<std::size_t>(start.back()));
-    for (int t : ids) {
-      int x0, y0, x1, y1;
-      cellRange(t, x0, y0, x1, y1);
-      for (int y = y0; y <= y1; ++y) {
-        for (int x = x0; x <= x1; ++x) {
-          level.cellTriangles[static_cast<std::size_t>(
-              start[static_cast<std::size_t>(y) * static_cast<std::size_t>(level.nx) +
-                    static_cast<std::size_t>(x)]++)] = t;
-        }
+  }
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  level.cellStart = start;
+  level.cellTriangles.resize(static_cast<std::size_t>(start.back()));
+  for (int t : ids) {
+    int x0, y0, x1, y1;
+    cellRange(t, x0, y0, x1, y1);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        level.cellTriangles[static_cast<std::size_t>(
+            start[static_cast<std::size_t>(y) * static_cast<std::size_t>(level.nx) +
+                  static_cast<std::size_t>(x)]++)] = t;
       }
     }
   }
@@ -181,17 +195,16 @@ TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p,
     return std::span<const int>(level.cellTriangles.data() + level.cellStart[cell],
                                 level.cellTriangles.data() + level.cellStart[cell + 1]);
   };
-  // Inside: every triangle holding p is registered in p's cell of its level. Where several
+  // Inside: every triangle holding p is registered in p's cell of the inside grid. Where several
   // hold it (overlap after projection), the smallest depth wins; ties go to the lowest index.
   {
     int best = -1;
     double bestDepth = 0;
     Eigen::Vector3d bestB;
     constexpr double kOnEdge = -1e-12;
-    for (const Level& level : levels_) {
-      int cx, cy;
-      if (!level.cellOf(p, cx, cy)) continue;
-      for (int t : cellTriangles(level, cx, cy)) {
+    int cx, cy;
+    if (inside_.cellOf(p, cx, cy)) {
+      for (int t : cellTriangles(inside_, cx, cy)) {
         if (!eligible(t)) continue;
         const Eigen::Vector3d b = weightsIn(t, p);
         if (b.minCoeff() < kOnEdge) continue;

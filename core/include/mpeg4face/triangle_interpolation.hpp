@@ -61,6 +61,10 @@ class TriangleInterpolator {
     std::vector<int> cellTriangles;
     bool cellOf(const Eigen::Vector2d& p, int& cx, int& cy) const;
   };
+  // Fills `level` with the triangles `ids` on cells of at least cellSize, and at most about
+  // maxCellsPerTriangle cells per triangle.
+  void buildGrid(Level& level, std::span<const int> ids, double cellSize,
+                 double maxCellsPerTriangle) const;
   Eigen::Vector3d weightsIn(int triangle, const Eigen::Vector2d& p) const;
   double depthAt(int triangle, const Eigen::Vector3d& b) const;
 
@@ -69,7 +73,8 @@ class TriangleInterpolator {
   std::vector<double> depth_;
   std::vector<std::uint8_t> tags_;
   std::vector<std::array<double, 6>> affine_;  // per triangle: b1, b2 = k0 x + k1 y + k2, ...
-  std::vector<Level> levels_;
+  std::vector<Level> levels_;                  // for the closest-triangle fallback
+  Level inside_;                               // every triangle, for the inside test
 };
 
 }  // namespace mpeg4face
