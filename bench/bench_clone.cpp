@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
        {fixture::resampled(stretched(base), 1000), fixture::resampled(stretched(base), 6000)}) {
     const double off = meanRoughness(source, copies, target, 0);
     const double on = meanRoughness(source, copies, target, CloneOptions{}.filterSupport);
-    std::printf("  target %6d vertices: filter off %.4f, on (support %.2f) %.4f: %.2fx\n",
+    std::printf("  target %6d vertices: filter off %.4f, on (adaptive, support %.2f) %.4f: %.2fx\n",
                 target.meshes[0].vertexCount(), off, CloneOptions{}.filterSupport, on, on / off);
   }
   return 0;

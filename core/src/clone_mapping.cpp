@@ -111,6 +111,37 @@ std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& fra
   return lips;
 }
 
+// Each point's mean length of the edges of `triangles` that meet there (0 for a point on none):
+// the local sampling distance of the mesh in alignment space.
+std::vector<double> meanEdgeLength(const Points2& uv, std::span<const int> triangles) {
+  std::vector<double> sum(static_cast<std::size_t>(uv.rows()), 0.0);
+  std::vector<int> count(sum.size(), 0);
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int a = triangles[t + k], b = triangles[t + (k + 1) % 3];
+      const double length = (uv.row(a) - uv.row(b)).norm();
+      for (int end : {a, b}) {
+        sum[static_cast<std::size_t>(end)] += length;
+        ++count[static_cast<std::size_t>(end)];
+      }
+    }
+  }
+  for (std::size_t i = 0; i < sum.size(); ++i) {
+    if (count[i] > 0) sum[i] /= count[i];
+  }
+  return sum;
+}
+
+// The filter's support at a target point whose edges are `targetEdge` long where the source's
+// are `sourceEdge` long (CloneOptions::adaptiveFilter).
+double filterSupportAt(const CloneOptions& options, double targetEdge, double sourceEdge) {
+  if (!options.adaptiveFilter) return options.filterSupport;
+  constexpr double kNone = 1.25, kFull = 2.0;  // target / source edge length
+  if (!(sourceEdge > 0)) return 0;
+  const double ramp = std::clamp((targetEdge / sourceEdge - kNone) / (kFull - kNone), 0.0, 1.0);
+  return ramp * options.filterSupport;
+}
+
 // N(FP) of each row: the factors of the region of its nearest required feature point.
 Points3 regionFactors(const FaceModel& model, const Surface& s, const FapuMeasurement& fapu) {
   const auto ids = cloneFeaturePoints();
@@ -214,23 +245,54 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   }
   const TriangleInterpolator motion(src.uv, src.triangles, src.depth, std::move(tags));
 
-  // The filter: the centre and six points on a circle of diameter filterSupport, averaged.
-  std::vector<Eigen::Vector2d> samples{Eigen::Vector2d::Zero()};
-  if (options.filterSupport > 0) {
-    for (int k = 0; k < 6; ++k) {
-      const double a = k * std::numbers::pi / 3;
-      samples.push_back(0.5 * options.filterSupport * Eigen::Vector2d(std::cos(a), std::sin(a)));
-    }
-  }
-  const double sampleWeight = 1.0 / static_cast<double>(samples.size());
-
   const Eigen::Index n = tgt.uv.rows();
-  map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
-  map.rowStart.push_back(0);
   // A vertex that no face uses is not part of the surface: it gets no motion.
   std::vector<bool> used(static_cast<std::size_t>(n), false);
   for (int corner : targetSurface.triangles) used[static_cast<std::size_t>(corner)] = true;
+  // Every target point moved onto the source by the alignment.
+  Points2 aligned = tgt.uv;
+  for (Eigen::Index t = 0; t < n; ++t) {
+    if (!used[static_cast<std::size_t>(t)]) continue;
+    const Eigen::Vector2d p = tgt.uv.row(t);
+    const TriangleWeights a = alignment.locate(p);
+    for (int k = 0; k < 3; ++k) {
+      aligned.row(t) += a.weights[k] * fpMove.row(a.corners[static_cast<std::size_t>(k)]);
+    }
+  }
+  std::vector<double> sourceEdge, targetEdge;
+  if (options.filterSupport > 0 && options.adaptiveFilter) {
+    sourceEdge = meanEdgeLength(src.uv, src.triangles);
+    targetEdge = meanEdgeLength(aligned, tgt.triangles);
+  }
+
+  map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
+  map.rowStart.push_back(0);
   std::vector<std::pair<int, double>> entries;
+  // Adds a sample's share of the source motion at q (weight `share`) to `entries`.
+  const auto addSample = [&](const TriangleWeights& w, const Eigen::Vector2d& q, double share) {
+    if (w.triangle < 0) return;
+    // Beyond the source's surface the motion fades out over outsideFalloff (ours).
+    double fade = 1;
+    if (!w.inside && options.outsideFalloff > 0) {
+      Eigen::Vector2d nearest = Eigen::Vector2d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        nearest += w.weights[k] * src.uv.row(w.corners[static_cast<std::size_t>(k)]).transpose();
+      }
+      fade = std::max(0.0, 1 - (q - nearest).norm() / options.outsideFalloff);
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int s = w.corners[static_cast<std::size_t>(k)];
+      const double weight = share * fade * w.weights[k];
+      if (weight == 0) continue;
+      auto it =
+          std::find_if(entries.begin(), entries.end(), [&](const auto& e) { return e.first == s; });
+      if (it == entries.end()) {
+        entries.emplace_back(s, weight);
+      } else {
+        it->second += weight;
+      }
+    }
+  };
   for (Eigen::Index t = 0; t < n; ++t) {
     if (options.progress && t % 4096 == 0)
       options.progress("mapping", 0.5 * static_cast<double>(t) / static_cast<double>(n));
@@ -238,38 +300,31 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       map.rowStart.push_back(static_cast<int>(map.source.size()));
       continue;
     }
-    Eigen::Vector2d p = tgt.uv.row(t);
-    const TriangleWeights a = alignment.locate(p);
-    for (int k = 0; k < 3; ++k)
-      p += a.weights[k] * fpMove.row(a.corners[static_cast<std::size_t>(k)]).transpose();
+    const Eigen::Vector2d p = aligned.row(t);
     std::uint8_t excluded = 0;
     if (map.targetLips[static_cast<std::size_t>(t)] == LipRegion::Upper) excluded = kLowerTag;
     if (map.targetLips[static_cast<std::size_t>(t)] == LipRegion::Lower) excluded = kUpperTag;
     entries.clear();
-    for (const Eigen::Vector2d& offset : samples) {
-      const TriangleWeights w = motion.locate(p + offset, excluded);
-      if (w.triangle < 0) continue;
-      // Beyond the source's surface the motion fades out over outsideFalloff (ours).
-      double fade = 1;
-      if (!w.inside && options.outsideFalloff > 0) {
-        Eigen::Vector2d nearest = Eigen::Vector2d::Zero();
+    const TriangleWeights centre = motion.locate(p, excluded);
+    // The filter: the centre and six points on a circle of diameter `support`, averaged.
+    double support = 0;
+    if (options.filterSupport > 0) {
+      double here = 0;
+      if (options.adaptiveFilter && centre.triangle >= 0) {
         for (int k = 0; k < 3; ++k) {
-          nearest += w.weights[k] * src.uv.row(w.corners[static_cast<std::size_t>(k)]).transpose();
-        }
-        fade = std::max(0.0, 1 - (p + offset - nearest).norm() / options.outsideFalloff);
-      }
-      for (int k = 0; k < 3; ++k) {
-        const int s = w.corners[static_cast<std::size_t>(k)];
-        const double weight = sampleWeight * fade * w.weights[k];
-        if (weight == 0) continue;
-        auto it = std::find_if(entries.begin(), entries.end(),
-                               [&](const auto& e) { return e.first == s; });
-        if (it == entries.end()) {
-          entries.emplace_back(s, weight);
-        } else {
-          it->second += weight;
+          here += centre.weights[k] *
+                  sourceEdge[static_cast<std::size_t>(centre.corners[static_cast<std::size_t>(k)])];
         }
       }
+      support = filterSupportAt(
+          options, targetEdge.empty() ? 0 : targetEdge[static_cast<std::size_t>(t)], here);
+    }
+    const double share = support > 0 ? 1.0 / 7 : 1.0;
+    addSample(centre, p, share);
+    for (int k = 0; support > 0 && k < 6; ++k) {
+      const double a = k * std::numbers::pi / 3;
+      const Eigen::Vector2d q = p + 0.5 * support * Eigen::Vector2d(std::cos(a), std::sin(a));
+      addSample(motion.locate(q, excluded), q, share);
     }
     for (const auto& [s, weight] : entries) {
       map.source.push_back(s);

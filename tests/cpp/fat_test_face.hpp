@@ -1,10 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The small face the FaceDefTables generator's and the clone source's tests share.
+// The small face the FaceDefTables generator's and the clone source's tests share, and what
+// checks tables against deformed copies.
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
 
 #include "mpeg4face/face_model.hpp"
+#include "mpeg4face/fap_stream.hpp"
+#include "mpeg4face/fat_evaluate.hpp"
+#include "mpeg4face/fat_generate.hpp"
 
 namespace mpeg4face::test {
 
@@ -52,6 +57,40 @@ inline FaceModel testFace() {
   bind("8.3", 0.025, -0.05, 0.09);
   bind("8.4", -0.025, -0.05, 0.09);
   return model;
+}
+
+// The frame that drives `copy`'s shape at its amplitude (a viseme, expression or FAP).
+inline FapFrame frameFor(const DeformedCopy& copy) {
+  FapFrame f;
+  if (copy.fapID == 1) {
+    f.mask.set(0);
+    f.viseme = {copy.highLevelSelect, 0, copy.amplitude, false};
+  } else if (copy.fapID == 2) {
+    f.mask.set(1);
+    f.expression = {copy.highLevelSelect, copy.amplitude, 0, 0, false, false};
+  } else {
+    f.set(copy.fapID, copy.amplitude);
+  }
+  return f;
+}
+
+// The largest distance between the evaluated state and the copy, over all meshes (in model
+// space, so that Transform changes count too).
+inline double farthest(const FatState& state, const FaceModel& neutral, const FaceModel& copy) {
+  FaceModel animated = neutral;
+  animated.transforms = state.transforms;
+  for (std::size_t m = 0; m < neutral.meshes.size(); ++m) animated.meshes[m].coord = state.coord[m];
+  const auto a = animated.meshWorldMatrices();
+  const auto b = copy.meshWorldMatrices();
+  double worst = 0;
+  for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
+    for (Eigen::Index v = 0; v < copy.meshes[m].coord.rows(); ++v) {
+      const Eigen::Vector3d p = a[m] * animated.meshes[m].coord.row(v).transpose();
+      const Eigen::Vector3d q = b[m] * copy.meshes[m].coord.row(v).transpose();
+      worst = std::max(worst, (p - q).norm());
+    }
+  }
+  return worst;
 }
 
 }  // namespace mpeg4face::test

@@ -18,9 +18,7 @@ namespace {
 
 // Mean roughness of the cloned motion of every copy on `target`.
 double clonedRoughness(const FaceModel& source, const std::vector<DeformedCopy>& copies,
-                       const FaceModel& target, double filterSupport) {
-  CloneOptions options;
-  options.filterSupport = filterSupport;
+                       const FaceModel& target, CloneOptions options) {
   options.rigidParts = false;
   const CloneResult result = cloneDeformedCopies(source, copies, target, options);
   const IndexedFaceSet& mesh = result.targetNeutral.meshes[0];
@@ -31,32 +29,62 @@ double clonedRoughness(const FaceModel& source, const std::vector<DeformedCopy>&
   return sum / static_cast<double>(result.copies.size());
 }
 
+double sourceRoughness(const FaceModel& source, const std::vector<DeformedCopy>& copies) {
+  double sum = 0;
+  for (const DeformedCopy& c : copies) {
+    sum += fixture::roughness(source.meshes[0], c.model.meshes[0].coord - source.meshes[0].coord);
+  }
+  return sum / static_cast<double>(copies.size());
+}
+
+struct Roughness {
+  double off, adaptive, fixed;
+};
+
+// Without the filter, with the default (adaptive) one and with the paper's fixed support.
+Roughness roughnessOf(const FaceModel& source, const std::vector<DeformedCopy>& copies,
+                      const FaceModel& target) {
+  CloneOptions off, fixed;
+  off.filterSupport = 0;
+  fixed.adaptiveFilter = false;
+  const Roughness r{clonedRoughness(source, copies, target, off),
+                    clonedRoughness(source, copies, target, CloneOptions{}),
+                    clonedRoughness(source, copies, target, fixed)};
+  std::printf("  target %6d vertices: filter off %.4f, adaptive %.4f, fixed %.4f\n",
+              target.meshes[0].vertexCount(), r.off, r.adaptive, r.fixed);
+  return r;
+}
+
 }  // namespace
 
 TEST(CloneSmoothness, FilterSmoothsDenseSourceOnCoarseTarget) {
   const FaceModel candide = fixture::candide(mpeg4face::test::kData);
   const FaceModel dense = fixture::resampled(candide, 20000);
-  const FaceModel coarse = fixture::resampled(candide, 400);  // decimated
-  const FaceModel medium = fixture::resampled(candide, 4000);
   const std::vector<DeformedCopy> copies = fixture::syntheticCopies(dense, 1.0);
   ASSERT_EQ(copies.size(), 68u);
-  const double coarseOff = clonedRoughness(dense, copies, coarse, 0);
-  const double coarseOn = clonedRoughness(dense, copies, coarse, CloneOptions{}.filterSupport);
-  const double mediumOff = clonedRoughness(dense, copies, medium, 0);
-  const double mediumOn = clonedRoughness(dense, copies, medium, CloneOptions{}.filterSupport);
   std::printf(
-      "roughness of the cloned motion (68 shapes with per-vertex detail, source %d vertices)\n"
-      "  target %6d vertices: filter off %.4f, on %.4f\n"
-      "  target %6d vertices: filter off %.4f, on %.4f\n",
-      dense.meshes[0].vertexCount(), coarse.meshes[0].vertexCount(), coarseOff, coarseOn,
-      medium.meshes[0].vertexCount(), mediumOff, mediumOn);
-  EXPECT_LT(coarseOn, coarseOff);
-  EXPECT_LT(mediumOn, mediumOff);
-  // The source's own motion is rough: what is cloned without the filter stays so.
-  double sourceRoughness = 0;
-  for (const DeformedCopy& c : copies) {
-    sourceRoughness +=
-        fixture::roughness(dense.meshes[0], c.model.meshes[0].coord - dense.meshes[0].coord);
+      "roughness of the cloned motion (68 shapes with per-vertex detail, source %d vertices, "
+      "its own %.4f)\n",
+      dense.meshes[0].vertexCount(), sourceRoughness(dense, copies));
+  for (const int vertices : {400, 4000}) {  // decimated targets
+    const Roughness r = roughnessOf(dense, copies, fixture::resampled(candide, vertices));
+    EXPECT_LT(r.adaptive, r.off) << vertices;
+    EXPECT_LT(r.fixed, r.off) << vertices;
   }
-  std::printf("  source: %.4f\n", sourceRoughness / static_cast<double>(copies.size()));
+}
+
+// Onto a denser target the motion is interpolated linearly inside the source's triangles, so
+// it comes out smoother than the source's own; the adaptive filter leaves it so (the target
+// samples more finely: nothing can alias), the fixed one blurs it further.
+TEST(CloneSmoothness, DenserTargetGetsSmoothMotion) {
+  const FaceModel candide = fixture::candide(mpeg4face::test::kData);
+  const FaceModel coarse = fixture::resampled(candide, 2000);
+  const std::vector<DeformedCopy> copies = fixture::syntheticCopies(coarse, 1.0);
+  const double own = sourceRoughness(coarse, copies);
+  std::printf("roughness onto a denser target (source %d vertices, its own %.4f)\n",
+              coarse.meshes[0].vertexCount(), own);
+  const Roughness r = roughnessOf(coarse, copies, fixture::resampled(candide, 20000));
+  EXPECT_LT(r.adaptive, 0.5 * own);
+  EXPECT_EQ(r.adaptive, r.off);
+  EXPECT_LE(r.fixed, r.adaptive);
 }

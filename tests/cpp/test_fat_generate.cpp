@@ -16,6 +16,8 @@
 using namespace mpeg4face;
 using mpeg4face::test::errorOf;
 
+using mpeg4face::test::farthest;
+using mpeg4face::test::frameFor;
 using mpeg4face::test::testFace;
 
 namespace {
@@ -60,39 +62,6 @@ DeformedCopy sculpt(const FaceModel& neutral, int fap, int amplitude, int select
     c.row(v) += sculptedMotion(c.row(v), fap + 10 * select, amplitude);
   }
   return copy;
-}
-
-FapFrame frameFor(const DeformedCopy& copy) {
-  FapFrame f;
-  if (copy.fapID == 1) {
-    f.mask.set(0);
-    f.viseme = {copy.highLevelSelect, 0, copy.amplitude, false};
-  } else if (copy.fapID == 2) {
-    f.mask.set(1);
-    f.expression = {copy.highLevelSelect, copy.amplitude, 0, 0, false, false};
-  } else {
-    f.set(copy.fapID, copy.amplitude);
-  }
-  return f;
-}
-
-// The largest distance between the evaluated state and the copy, over all meshes (in model
-// space, so that Transform changes count too).
-double farthest(const FatState& state, const FaceModel& neutral, const FaceModel& copy) {
-  FaceModel animated = neutral;
-  animated.transforms = state.transforms;
-  for (std::size_t m = 0; m < neutral.meshes.size(); ++m) animated.meshes[m].coord = state.coord[m];
-  const auto a = animated.meshWorldMatrices();
-  const auto b = copy.meshWorldMatrices();
-  double worst = 0;
-  for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
-    for (Eigen::Index v = 0; v < copy.meshes[m].coord.rows(); ++v) {
-      const Eigen::Vector3d p = a[m] * animated.meshes[m].coord.row(v).transpose();
-      const Eigen::Vector3d q = b[m] * copy.meshes[m].coord.row(v).transpose();
-      worst = std::max(worst, (p - q).norm());
-    }
-  }
-  return worst;
 }
 
 void expectReproduced(const FaceModel& neutral, const std::vector<DeformedCopy>& copies,

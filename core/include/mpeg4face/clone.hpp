@@ -22,6 +22,12 @@ struct CloneOptions {
   // Support of the antialiasing (low-pass) filter in alignment-space units (the paper's
   // 0.02); 0 turns the filter off.
   double filterSupport = 0.02;
+  // Apply the filter where the target samples the motion more coarsely than the source, the
+  // only case that aliases (the paper's "from a face with a higher density to a face with a
+  // lower density"): full support where the target's local edge length is at least twice
+  // the source's, none where it is at most 1.25 times, linear between (ours, docs/clone.md).
+  // false: the paper's fixed support at every vertex.
+  bool adaptiveFilter = true;
   // Keep the upper and lower lip regions apart (the paper's lip-region rule).
   bool separateLips = true;
   // A target point outside the source's surface takes the motion of the closest source
