@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 
+#include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat_gltf.hpp"
@@ -35,31 +36,18 @@ struct Args {
 Args parseArgs(const std::vector<std::string>& args) {
   Args out;
   std::vector<std::string> files;
-  const auto value = [&](size_t& i, const char* what) -> const std::string& {
-    if (i + 1 >= args.size()) throw UsageError(args[i] + " needs " + what);
-    return args[++i];
-  };
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "-o") {
-      out.output = value(i, "an output file");
+      out.output = optionValue(args, i, "an output file");
     } else if (a == "--source-feature-points") {
-      out.sourceFeaturePoints = value(i, "a CSV file");
+      out.sourceFeaturePoints = optionValue(args, i, "a CSV file");
     } else if (a == "--target-feature-points") {
-      out.targetFeaturePoints = value(i, "a CSV file");
+      out.targetFeaturePoints = optionValue(args, i, "a CSV file");
     } else if (a == "--filter-support") {
-      const std::string& text = value(i, "a number");
-      size_t used = 0;
-      double s = -1;
-      try {
-        s = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size() || !std::isfinite(s) || s < 0) {
-        throw UsageError("--filter-support takes a number >= 0, not '" + text + "'");
-      }
-      out.options.filterSupport = s;
+      out.options.filterSupport = numberArgument(args, i, "a number", 0);
+    } else if (a == "--fixed-filter") {
+      out.options.adaptiveFilter = false;
     } else if (a == "--no-rigid") {
       out.options.rigidParts = false;
     } else if (a.starts_with("-") && a != "-") {

@@ -70,14 +70,16 @@ constexpr std::array kCommands{
             mpeg4face::cli::runApply},
     Command{"clone", "Facial Motion Cloning: a face's FAP motion onto a neutral face",
             "mpeg4face clone SOURCE TARGET [--source-feature-points CSV]\n"
-            "                [--target-feature-points CSV] [--filter-support X] [--no-rigid]\n"
+            "                [--target-feature-points CSV] [--filter-support X] [--fixed-filter]\n"
+            "                [--no-rigid]\n"
             "                -o OUT.glb|.gltf|.wrl\n"
             "  SOURCE  a face with tables (.wrl, or .glb/.gltf written by mpeg4face) or a glTF\n"
             "          head with shape keys named fap<N>@<value>, viseme<N>, expression<N>\n"
             "  TARGET  the neutral face to animate (.glb, .gltf, .obj, .wfm, .wrl)\n"
             "  --source-feature-points, --target-feature-points CSV  bind feature points\n"
             "  --filter-support X  antialiasing filter support, alignment units (default 0.02;\n"
-            "                      0: off)\n"
+            "                      0: off), used where the target is coarser than the source\n"
+            "  --fixed-filter  the filter at every vertex (the paper's), not only there\n"
             "  --no-rigid  no eye, teeth, tongue and head transforms: vertex motion only\n"
             "  OUT gets the target with its FaceDefTables; a glTF also the cloned copies as\n"
             "  shape keys. Progress on stderr. docs/clone.md\n",

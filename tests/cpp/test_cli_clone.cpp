@@ -184,6 +184,34 @@ TEST(CliClone, CandideOntoScaledCandideAndBack) {
   EXPECT_EQ(tablesOf(readVrml(again)), source.tables);
 }
 
+// The adaptive filter leaves a clone onto an equally dense face unfiltered (the same shape keys
+// as with the filter off); --fixed-filter filters every vertex, as the paper does.
+TEST(CliClone, FixedFilterFiltersEveryVertex) {
+  const std::filesystem::path dir = mpeg4face::test::scratchDir();
+  const auto source = sourceHead();
+  const std::filesystem::path sourcePath = dir / "candide_keys_filter.glb";
+  writeGltf(source.model, sourcePath);
+  const std::filesystem::path target = writeScaledCandide(dir);
+  const auto keys = [&](const std::string& options) {
+    const std::filesystem::path out = dir / "filter_clone.glb";
+    const auto r = runCli("clone " + sourcePath.string() + " " + target.string() +
+                          " --source-feature-points " + kCandideCsv + " --target-feature-points " +
+                          kCandideCsv + " --no-rigid " + options + " -o " + out.string());
+    EXPECT_EQ(r.status, 0) << options << "\n" << r.out;
+    return readFatGltf(out).face.faceSceneGraph.meshes[0].morphTargets;
+  };
+  const auto off = keys("--filter-support 0"), adaptive = keys(""), fixed = keys("--fixed-filter");
+  ASSERT_EQ(off.size(), adaptive.size());
+  ASSERT_EQ(off.size(), fixed.size());
+  double fixedChange = 0;
+  for (std::size_t k = 0; k < off.size(); ++k) {
+    EXPECT_TRUE(off[k].displacements.isApprox(adaptive[k].displacements, 1e-9)) << off[k].name;
+    fixedChange = std::max(fixedChange,
+                           (fixed[k].displacements - off[k].displacements).cwiseAbs().maxCoeff());
+  }
+  EXPECT_GT(fixedChange, 0);
+}
+
 TEST(CliClone, CandideOntoMakeHuman) {
   const std::filesystem::path dir = mpeg4face::test::scratchDir();
   const SourceHead source = sourceHead();
