@@ -97,20 +97,8 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
   const clone::Mapping map = clone::buildMapping(sourceNeutral, sourceSurface, result.targetNeutral,
                                                  targetSurface, options);
 
-  // Per source row: the copy's displacement (mesh frame) to normalised model-space motion; per
-  // target row: normalised motion back to model space (N(FP)) and into the mesh's frame.
   const auto toModel = linearParts(sourceNeutral, false);
   const auto toLocal = linearParts(result.targetNeutral, true);
-  std::vector<Eigen::Matrix3d> normalise(sourceSurface.owner.size());
-  for (std::size_t r = 0; r < normalise.size(); ++r) {
-    normalise[r] = map.sourceFactors.row(static_cast<Eigen::Index>(r)).cwiseInverse().asDiagonal() *
-                   toModel[static_cast<std::size_t>(sourceSurface.owner[r].first)];
-  }
-  std::vector<Eigen::Matrix3d> denormalise(targetSurface.owner.size());
-  for (std::size_t t = 0; t < denormalise.size(); ++t) {
-    denormalise[t] = toLocal[static_cast<std::size_t>(targetSurface.owner[t].first)] *
-                     map.targetFactors.row(static_cast<Eigen::Index>(t)).asDiagonal();
-  }
   Points3 motion(sourceSurface.positions.rows(), 3);
   for (std::size_t c = 0; c < sourceCopies.size(); ++c) {
     if (options.progress) {
@@ -118,13 +106,15 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
           "copies", 0.5 + 0.5 * static_cast<double>(c) / static_cast<double>(sourceCopies.size()));
     }
     const DeformedCopy& from = sourceCopies[c];
-    for (std::size_t r = 0; r < normalise.size(); ++r) {
-      const auto [m, v] = sourceSurface.owner[r];
-      motion.row(static_cast<Eigen::Index>(r)) =
-          (normalise[r] * (from.model.meshes[static_cast<std::size_t>(m)].coord.row(v) -
-                           sourceNeutral.meshes[static_cast<std::size_t>(m)].coord.row(v))
-                              .transpose())
-              .transpose();
+    // Normalised source motion of every surface vertex, in model space.
+    for (Eigen::Index r = 0; r < motion.rows(); ++r) {
+      const auto [m, v] = sourceSurface.owner[static_cast<std::size_t>(r)];
+      const Eigen::Vector3d local = (from.model.meshes[static_cast<std::size_t>(m)].coord.row(v) -
+                                     sourceNeutral.meshes[static_cast<std::size_t>(m)].coord.row(v))
+                                        .transpose();
+      motion.row(r) = (toModel[static_cast<std::size_t>(m)] * local)
+                          .cwiseQuotient(map.sourceFactors.row(r).transpose())
+                          .transpose();
     }
     DeformedCopy& to = result.copies.emplace_back();
     to.name = from.name;
@@ -134,22 +124,18 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
     to.model = result.targetNeutral;
     if (options.rigidParts)
       cloneRigidMotion(rigid, sourceNeutral, sourceFapu, from, targetFapu, to.model);
-    // The sparse product, on plain arrays: it runs once per copy over every target vertex.
-    const double* source = motion.data();
-    for (std::size_t t = 0; t < denormalise.size(); ++t) {
-      double x = 0, y = 0, z = 0;
+    for (std::size_t t = 0; t + 1 < map.rowStart.size(); ++t) {
+      Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
       for (int i = map.rowStart[t]; i < map.rowStart[t + 1]; ++i) {
-        const double w = map.weight[static_cast<std::size_t>(i)];
-        const double* s =
-            source + 3 * static_cast<std::size_t>(map.source[static_cast<std::size_t>(i)]);
-        x += w * s[0];
-        y += w * s[1];
-        z += w * s[2];
+        sum += map.weight[static_cast<std::size_t>(i)] *
+               motion.row(map.source[static_cast<std::size_t>(i)]);
       }
-      if (x == 0 && y == 0 && z == 0) continue;
+      if (sum.isZero(0)) continue;
       const auto [m, v] = targetSurface.owner[t];
+      const Eigen::Vector3d modelMotion = sum.transpose().cwiseProduct(
+          map.targetFactors.row(static_cast<Eigen::Index>(t)).transpose());
       to.model.meshes[static_cast<std::size_t>(m)].coord.row(v) +=
-          (denormalise[t] * Eigen::Vector3d(x, y, z)).transpose();
+          (toLocal[static_cast<std::size_t>(m)] * modelMotion).transpose();
     }
   }
   if (options.progress) options.progress("copies", 1.0);

@@ -2,7 +2,6 @@
 #include "fba_pca.hpp"
 
 #include <algorithm>
-#include <array>
 #include <bitset>
 #include <cmath>
 #include <string>
@@ -326,13 +325,12 @@ std::vector<FapFrame> reconstructPca(const PcaHeader& header, std::span<const Fa
     f.expression = c.expression;
     for (const PcaHeaderGroup& h : header.groups) {
       const size_t k = static_cast<size_t>(h.components);
-      // The components copied out first: writing f could otherwise alias reading c.
-      std::array<int64_t, kFapCount> component{};
       const int firstSlot = pcaComponentSlot(h.group, 0);
-      for (size_t j = 0; j < k; ++j) component[j] = c.value(firstSlot + static_cast<int>(j));
       for (size_t i = 0; i < h.faps.size(); ++i) {
         int64_t sum = 0;
-        for (size_t j = 0; j < k; ++j) sum += h.basis[i * k + j] * component[j];
+        for (size_t j = 0; j < k; ++j) {
+          sum += h.basis[i * k + j] * c.value(firstSlot + static_cast<int>(j));
+        }
         const int64_t x = h.mean[i] + roundShift(sum, header.basisBits);
         f.set(h.faps[i], static_cast<int>(std::clamp<int64_t>(x, -kMaxFbaValue, kMaxFbaValue)));
       }
