@@ -18,6 +18,14 @@ constexpr uint32_t kTop = 65535;
 // emulate a start code (23 zeros and a 1).
 constexpr int kMaxZeroRun = 22;
 
+// narrow()'s scaling of length * bound by the total: a division, or a shift for 2^count.
+auto dividedBy(uint32_t total) {
+  return [total](uint32_t x) { return x / total; };
+}
+auto shiftedBy(int count) {
+  return [count](uint32_t x) { return x >> count; };
+}
+
 }  // namespace
 
 AdaptiveModel::AdaptiveModel(int symbolCount) : symbolCount_(symbolCount) {
@@ -85,19 +93,19 @@ void ArithmeticEncoder::encode(int symbol, AdaptiveModel& model) {
   // [cumul(s + 1), cumul(s)) with cumul(s) = total - countBelow(s).
   const uint32_t total = model.total();
   const uint32_t upper = total - model.countBelow(symbol);
-  narrow(upper - model.count(symbol), upper, [total](uint32_t x) { return x / total; });
+  narrow(upper - model.count(symbol), upper, dividedBy(total));
   model.update(symbol);
 }
 
 void ArithmeticEncoder::encodeUniform(int symbol, int symbolCount) {
   const auto upper = static_cast<uint32_t>(symbolCount - symbol);
   const auto total = static_cast<uint32_t>(symbolCount);
-  narrow(upper - 1, upper, [total](uint32_t x) { return x / total; });
+  narrow(upper - 1, upper, dividedBy(total));
 }
 
 void ArithmeticEncoder::encodeBits(uint32_t bits, int count) {
   const uint32_t upper = (1u << count) - bits;
-  narrow(upper - 1, upper, [count](uint32_t x) { return x >> count; });
+  narrow(upper - 1, upper, shiftedBy(count));
 }
 
 // Writes `count` (1..16) bits with the stuffing rule. Where no 1 needs stuffing (the zero run
@@ -225,7 +233,7 @@ int ArithmeticDecoder::decode(AdaptiveModel& model) {
   uint32_t below = 0;
   const int symbol = model.find(target(total), below);
   const uint32_t upper = total - below;
-  narrow(upper - model.count(symbol), upper, [total](uint32_t x) { return x / total; });
+  narrow(upper - model.count(symbol), upper, dividedBy(total));
   model.update(symbol);
   return symbol;
 }
@@ -233,14 +241,14 @@ int ArithmeticDecoder::decode(AdaptiveModel& model) {
 int ArithmeticDecoder::decodeUniform(int symbolCount) {
   const auto total = static_cast<uint32_t>(symbolCount);
   const uint32_t symbol = target(total);
-  narrow(total - symbol - 1, total - symbol, [total](uint32_t x) { return x / total; });
+  narrow(total - symbol - 1, total - symbol, dividedBy(total));
   return static_cast<int>(symbol);
 }
 
 uint32_t ArithmeticDecoder::decodeBits(int count) {
   const uint32_t total = 1u << count;
   const uint32_t bits = target(total);
-  narrow(total - bits - 1, total - bits, [count](uint32_t x) { return x >> count; });
+  narrow(total - bits - 1, total - bits, shiftedBy(count));
   return bits;
 }
 
