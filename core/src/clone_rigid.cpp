@@ -517,13 +517,13 @@ RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
 
 void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
                       const FapuMeasurement& sourceFapu, const DeformedCopy& sourceCopy,
-                      const FapuMeasurement& targetFapu, FaceModel& targetCopy) {
+                      const FaceModel& targetNeutral, const FapuMeasurement& targetFapu,
+                      std::vector<Transform>& transforms) {
   if (map.parts.empty()) return;
   const Scene source = makeScene(sourceNeutral, SceneContent::Transforms);
-  // Neutral values: read before any change.
-  const Scene goal = makeScene(targetCopy, SceneContent::Transforms);
+  const Scene goal = makeScene(targetNeutral, SceneContent::Transforms);
   const int ns = static_cast<int>(sourceNeutral.transforms.size());
-  const int nt = static_cast<int>(targetCopy.transforms.size());
+  const int nt = static_cast<int>(std::min(transforms.size(), targetNeutral.transforms.size()));
   if (static_cast<int>(sourceCopy.model.transforms.size()) != ns) {
     throw Error(sourceCopy.name, 0, "transforms",
                 "the copy's Transform tree differs from the source neutral's");
@@ -545,7 +545,7 @@ void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
     const Eigen::Matrix3d sourceAxes = up.rotation() * s0.rotation.toRotationMatrix();
     const Eigen::Matrix3d turn =
         sourceAxes * (s0.rotation.inverse() * s1.rotation) * sourceAxes.transpose();
-    Transform& t = targetCopy.transforms[tt];
+    Transform& t = transforms[tt];
     const Eigen::Affine3d targetUp = goal.parentWorld(tt);
     const Eigen::Matrix3d targetAxes = targetUp.rotation() * t.rotation.toRotationMatrix();
     const Eigen::Vector3d local = goal.world[tt].inverse() * part.targetCentre;

@@ -112,13 +112,14 @@ inline Eigen::Vector3d shapeCentre(const FaceModel& model, int fapID) {
 }
 
 // 68 shapes (FAP 3..68 at 512, viseme 1 and expression 1 at 63) of one-mesh `model`: each a
-// smooth bump of motion (Gaussian, sigma 0.3 ES0, peak 0.1 ES0, a direction of its own)
-// around the shape's centre, times (1 + detail * noise): `detail` > 0 adds per-vertex
+// smooth bump of motion around the shape's centre (peak 0.1 ES0, a direction of its own),
+// local as a sculpted shape is: (1 - r^2 / R^2)^3 within R = 0.9 ES0 of the centre, 0
+// beyond; times (1 + detail * noise): `detail` > 0 adds per-vertex
 // irregularity, the high-frequency motion that aliases when a dense source is sampled by a
 // coarse target.
 inline std::vector<DeformedCopy> syntheticCopies(const FaceModel& model, double detail) {
   const double es = measureFapu(model).ES0.value;
-  const double sigma = 0.3 * es, peak = 0.1 * es;
+  const double reach = 0.9 * es, peak = 0.1 * es;
   std::vector<std::pair<int, int>> shapes{{1, 1}, {2, 1}};
   for (int fap = 3; fap <= kFapCount; ++fap) shapes.emplace_back(fap, 0);
   std::vector<DeformedCopy> copies;
@@ -136,8 +137,9 @@ inline std::vector<DeformedCopy> syntheticCopies(const FaceModel& model, double 
     Points3& coord = copy.model.meshes[0].coord;
     for (int v = 0; v < coord.rows(); ++v) {
       const double r2 = (coord.row(v) - centre).squaredNorm();
-      const double bump = peak * std::exp(-r2 / (2 * sigma * sigma));
-      coord.row(v) += bump * (1 + detail * detailNoise(fapID, v)) * direction;
+      const double q = 1 - r2 / (reach * reach);
+      if (q <= 0) continue;
+      coord.row(v) += peak * q * q * q * (1 + detail * detailNoise(fapID, v)) * direction;
     }
   }
   return copies;

@@ -330,7 +330,8 @@ TEST(CloneRigid, EyeRotationIsClonedAsItIsAboutTheTargetEyeCentre) {
   ASSERT_EQ(map.parts.size(), 1u);
   EXPECT_TRUE(map.warnings.empty());
   FaceModel moved = target;
-  cloneRigidMotion(map, source, measureFapu(source), turn, measureFapu(target), moved);
+  cloneRigidMotion(map, source, measureFapu(source), turn, target, measureFapu(target),
+                   moved.transforms);
   // By hand: the model-space turn is Rz(tilt) Ry(angle) Rz(tilt)^-1 about the eye centre.
   const Eigen::Matrix3d rz = Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Matrix3d expectedTurn =
@@ -363,7 +364,8 @@ TEST(CloneRigid, HeadTurnIsTheHeadsNotTheEyes) {
   EXPECT_EQ(map.parts[0].kind, Kind::Head);
   EXPECT_TRUE(map.warnings.empty());
   FaceModel moved = target;
-  cloneRigidMotion(map, source, measureFapu(source), yaw, measureFapu(target), moved);
+  cloneRigidMotion(map, source, measureFapu(source), yaw, target, measureFapu(target),
+                   moved.transforms);
   // By hand: turned about the neck 1.5 * n, the neck displaced by 1.5 (R n - n): for the
   // scaled face that is R p, a turn about the origin like the source's.
   for (int mesh = 0; mesh < static_cast<int>(moved.meshes.size()); ++mesh) {
@@ -398,7 +400,8 @@ TEST(CloneRigid, InsertsATransformForEyesHeldWithTheSkin) {
     EXPECT_TRUE(worldPoints(target, mesh).isApprox(worldPoints(before, mesh), 1e-12));
   }
   FaceModel moved = target;
-  cloneRigidMotion(map, source, measureFapu(source), turn, measureFapu(target), moved);
+  cloneRigidMotion(map, source, measureFapu(source), turn, target, measureFapu(target),
+                   moved.transforms);
   const Eigen::Matrix3d r = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()).toRotationMatrix();
   const Points3 p0 = worldPoints(target, ball), p1 = worldPoints(moved, ball);
   for (int v = 0; v < p0.rows(); ++v) {
@@ -421,7 +424,8 @@ TEST(CloneRigid, TeethAndTongueTranslationsScaleByMns0) {
   const RigidPartMap map = matchRigidParts(source, copies, target);
   ASSERT_EQ(map.parts.size(), 2u);
   FaceModel moved = target;
-  cloneRigidMotion(map, source, measureFapu(source), open, measureFapu(target), moved);
+  cloneRigidMotion(map, source, measureFapu(source), open, target, measureFapu(target),
+                   moved.transforms);
   const auto shift = [&](const char* mesh) {
     const int m = *target.findMesh(mesh);
     const Points3 d = worldPoints(moved, m) - worldPoints(target, m);
@@ -437,7 +441,7 @@ TEST(CloneRigid, TeethAndTongueTranslationsScaleByMns0) {
   FaceModel unmeasured = target;
   FapuMeasurement none;
   unmeasured = target;
-  cloneRigidMotion(map, source, none, open, none, unmeasured);
+  cloneRigidMotion(map, source, none, open, target, none, unmeasured.transforms);
   const int lower = *target.findMesh("LowerTeeth");
   const Points3 d = worldPoints(unmeasured, lower) - worldPoints(target, lower);
   EXPECT_LT((d.row(0).transpose() - 1.5 * jawMove).norm(), 1e-12);
@@ -458,7 +462,8 @@ TEST(CloneRigid, MissingPartIsSkippedWithAWarning) {
   EXPECT_TRUE(mentions(map.warnings, "tongue")) << map.warnings[0];
   EXPECT_TRUE(mentions(map.warnings, "6.1")) << map.warnings[0];
   FaceModel moved = target;
-  cloneRigidMotion(map, source, measureFapu(source), c, measureFapu(target), moved);
+  cloneRigidMotion(map, source, measureFapu(source), c, target, measureFapu(target),
+                   moved.transforms);
   const int tongue = *target.findMesh("Tongue"), lower = *target.findMesh("LowerTeeth");
   EXPECT_TRUE(worldPoints(moved, tongue).isApprox(worldPoints(target, tongue), 1e-12));
   EXPECT_FALSE(worldPoints(moved, lower).isApprox(worldPoints(target, lower), 1e-6));
@@ -550,7 +555,8 @@ TEST(CloneRigid, MakeHumanGroupsAreFoundFromAFewFeaturePoints) {
   for (int v = 0; v < p0.rows(); ++v) bounds.extend(p0.row(v).transpose());
   EXPECT_LT((eye.targetCentre - bounds.center()).norm(), 0.02) << eye.targetCentre.transpose();
   FaceModel moved = target;
-  cloneRigidMotion(map, source, measureFapu(source), turn, measureFapu(target), moved);
+  cloneRigidMotion(map, source, measureFapu(source), turn, target, measureFapu(target),
+                   moved.transforms);
   const Points3 p1 = worldPoints(moved, *human.findMesh("helper-l-eye"));
   const Eigen::Matrix3d r = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX()).toRotationMatrix();
   for (int v = 0; v < p0.rows(); ++v) {

@@ -23,7 +23,7 @@ double clonedRoughness(const FaceModel& source, const std::vector<DeformedCopy>&
   const CloneResult result = cloneDeformedCopies(source, copies, target, options);
   const IndexedFaceSet& mesh = result.targetNeutral.meshes[0];
   double sum = 0;
-  for (const DeformedCopy& c : result.copies) {
+  for (const DeformedCopy& c : deformedCopies(result)) {
     sum += fixture::roughness(mesh, c.model.meshes[0].coord - mesh.coord);
   }
   return sum / static_cast<double>(result.copies.size());

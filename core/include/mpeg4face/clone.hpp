@@ -47,20 +47,48 @@ std::span<const std::string_view> cloneFeaturePoints();
 // Those of cloneFeaturePoints() that `model` does not bind, in table order.
 std::vector<std::string> missingCloneFeaturePoints(const FaceModel& model);
 
+// The vertices of one mesh that a cloned copy moves, and by how much (mesh-local
+// coordinates): vertex vertices[k] moves by displacement.row(k).
+struct MeshDisplacement {
+  int mesh = 0;
+  std::vector<int> vertices;  // ascending
+  Points3 displacement;
+};
+
+// One cloned copy, as what it changes in the target neutral: a FAP shape moves a region of
+// the face, so only the vertices that move are kept (68 full copies of a large head would
+// cost more memory, and time to fill it, than the cloning itself). deformedCopy() makes
+// the full model.
+struct ClonedCopy {
+  std::string name;  // the source copy's name, fapID, highLevelSelect and amplitude
+  int fapID = 3;
+  int highLevelSelect = 0;
+  int amplitude = 0;
+  std::vector<MeshDisplacement> meshes;  // meshes with a vertex that moves, ascending
+  std::vector<Transform> transforms;     // the neutral's, with the rigid parts' motion set
+};
+
 struct CloneResult {
   // The target with rotation centres installed where needed (clone_rigid.hpp); the neutral
   // that `copies` deform.
   FaceModel targetNeutral;
-  // One per source copy, same name, fapID, highLevelSelect and amplitude.
-  std::vector<DeformedCopy> copies;
+  // One per source copy, in order.
+  std::vector<ClonedCopy> copies;
   std::vector<std::string> warnings;
 };
+
+// The full target model of result.copies[index] (the neutral moved by it).
+DeformedCopy deformedCopy(const CloneResult& result, std::size_t index);
+// deformedCopy of every copy, in order.
+std::vector<DeformedCopy> deformedCopies(const CloneResult& result);
 
 // Clones every copy of `sourceNeutral` onto `targetNeutral`. Vertex motion is the change of
 // each vertex's mesh-local position, taken to model space by the neutral world matrices
 // (Transform changes are the rigid parts' business, not vertex motion). Throws
 // mpeg4face::Error listing every missing feature point of either face (source / target
-// named), and for copies whose topology differs from the source neutral (naming the copy).
+// named), and for a copy whose meshes, vertex counts, faces (compared at 256 evenly spaced
+// corners: a renumbered copy differs almost everywhere) or Transform count differ from the
+// source neutral's, or with a coordinate that is not finite (naming the copy and mesh).
 CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
                                 std::span<const DeformedCopy> sourceCopies,
                                 const FaceModel& targetNeutral, const CloneOptions& options = {});

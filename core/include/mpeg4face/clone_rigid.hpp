@@ -55,13 +55,14 @@ struct RigidPartMap {
 RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
                              std::span<const DeformedCopy> sourceCopies, FaceModel& target);
 
-// Sets, in `targetCopy` (a copy of the target neutral matchRigidParts returned), the
-// Transform fields of every part from the change `sourceCopy` makes to the source neutral:
-// rotation and scale change as they are, the centre's displacement scaled by the FAPU ratio
-// (ES for eyes and head, MNS for teeth and tongue; the size ratio if not measured).
-// Throws mpeg4face::Error if `sourceCopy` or `targetCopy` lacks a part's Transform.
+// Sets, in `transforms` (a copy of the Transforms of the target neutral matchRigidParts
+// returned), the Transform fields of every part from the change `sourceCopy` makes to the
+// source neutral: rotation and scale change as they are, the centre's displacement scaled by
+// the FAPU ratio (ES for eyes and head, MNS for teeth and tongue; the size ratio if not
+// measured). Throws mpeg4face::Error if `sourceCopy` or `transforms` lacks a part's Transform.
 void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
                       const FapuMeasurement& sourceFapu, const DeformedCopy& sourceCopy,
-                      const FapuMeasurement& targetFapu, FaceModel& targetCopy);
+                      const FaceModel& targetNeutral, const FapuMeasurement& targetFapu,
+                      std::vector<Transform>& transforms);
 
 }  // namespace mpeg4face
