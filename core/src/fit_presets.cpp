@@ -1,0 +1,181 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Ready-made FAP Interpolation Tables. docs/fit.md.
+#include "mpeg4face/fit_presets.hpp"
+
+#include <array>
+#include <string>
+
+#include "mpeg4face/error.hpp"
+
+namespace mpeg4face {
+namespace {
+
+// A link from node `parent` = {from} to node `child` = {to}, f = F.
+void addDuplication(FitTable& table, int parent, int child) {
+  const int from = table.nodes[static_cast<std::size_t>(parent)][0];
+  const int to = table.nodes[static_cast<std::size_t>(child)][0];
+  setFitFunction(table, addFitLink(table, parent, child), to, linearFitFunction({from}, from));
+}
+
+constexpr std::array<int, 27> kExpressionFaps{3,  4,  5,  6,  7,  8,  9,  10, 11,
+                                              12, 13, 19, 20, 21, 22, 23, 24, 25,
+                                              26, 31, 32, 33, 34, 35, 36, 37, 38};
+
+// Each expression's low-level FAPs at full intensity (63), FAPU; the rest 0. Our own
+// estimates from the expressions' descriptions (ISO/IEC 14496-2 Table C-3): a starting point
+// for `mpeg4face fit learn`, which fits them to a real face's data.
+struct ExpressionShape {
+  int expression;
+  std::array<std::pair<int, int>, 12> faps;
+};
+constexpr std::array<ExpressionShape, 6> kExpressionShapes{{
+    {1, {{{6, 250}, {7, 250}, {12, 200}, {13, 200}, {4, -50}, {21, 150}, {22, 150}}}},  // joy
+    {2,
+     {{{12, -150},
+       {13, -150},
+       {31, 150},
+       {32, 150},
+       {37, 50},
+       {38, 50},
+       {19, 200},
+       {20, 200}}}},  // sadness
+    {3,
+     {{{31, -200},
+       {32, -200},
+       {33, -200},
+       {34, -200},
+       {37, 150},
+       {38, 150},
+       {19, -100},
+       {20, -100},
+       {5, 100}}}},  // anger
+    {4,
+     {{{31, 250},
+       {32, 250},
+       {33, 150},
+       {34, 150},
+       {37, 100},
+       {38, 100},
+       {19, -200},
+       {20, -200},
+       {3, 150},
+       {6, 150},
+       {7, 150}}}},  // fear
+    {5,
+     {{{4, -250},
+       {8, -200},
+       {9, -200},
+       {12, -100},
+       {13, -100},
+       {37, 100},
+       {38, 100},
+       {21, 100},
+       {22, 100}}}},  // disgust
+    {6,
+     {{{3, 400},
+       {31, 300},
+       {32, 300},
+       {33, 300},
+       {34, 300},
+       {35, 300},
+       {36, 300},
+       {19, -250},
+       {20, -250}}}},  // surprise
+}};
+
+}  // namespace
+
+FitTable leftRightFitTable() {
+  FitTable table;
+  for (int fap = 3; fap <= kFapCount; ++fap) {
+    const int mirror = fapMirror(fap);
+    if (mirror > fap) {
+      const int a = addFitNode(table, {fap});
+      const int b = addFitNode(table, {mirror});
+      addDuplication(table, a, b);
+      addDuplication(table, b, a);
+    }
+  }
+  return table;
+}
+
+FitTable innerOuterLipFitTable(double fmax) {
+  if (!(fmax > 0)) throw Error({}, 0, "fmax", "the upper lip's Fmax must be > 0");
+  FitTable table;
+  for (int inner = 4; inner <= 13; ++inner) {
+    const int parent = addFitNode(table, {inner});
+    addDuplication(table, parent, addFitNode(table, {inner + 47}));
+  }
+  // Tao's lower_t_midlip -> lower_t_midlip_o: F - F^3 / fmax^2.
+  FitFunction thinning = linearFitFunction({4}, 4);
+  thinning.numerator.push_back({-1 / (fmax * fmax), {3}});
+  setFitFunction(table, 0, 51, thinning);
+  return table;
+}
+
+FitTable eyebrowFitTable() {
+  FitTable table;
+  for (const auto& [middle, inner, outer] : {std::array{33, 31, 35}, std::array{34, 32, 36}}) {
+    const int parent = addFitNode(table, {middle});
+    const int child = addFitNode(table, {inner, outer});
+    const int link = addFitLink(table, parent, child);
+    setFitFunction(table, link, inner, linearFitFunction({middle}, middle));
+    setFitFunction(table, link, outer, linearFitFunction({middle}, middle));
+  }
+  return table;
+}
+
+std::span<const int> expressionFitFaps() { return kExpressionFaps; }
+
+FitTable expressionFitTable() {
+  FitTable table;
+  const int parent = addFitNode(table, {2});
+  const int child = addFitNode(table, {kExpressionFaps.begin(), kExpressionFaps.end()});
+  const int link = addFitLink(table, parent, child);
+  // Variables of {2}: select1, select2, intensity1, intensity2.
+  for (int fap : kExpressionFaps) {
+    FitFunction f;
+    f.denominator.push_back({1.0, {0, 0, 0, 0}});
+    for (const ExpressionShape& shape : kExpressionShapes) {
+      for (const auto& [id, value] : shape.faps) {
+        if (id != fap || value == 0) continue;
+        const double p = value / 63.0;
+        f.numerator.push_back({p, {0, 0, 1, 0}, kExpressionSelect1, shape.expression});
+        f.numerator.push_back({p, {0, 0, 0, 1}, kExpressionSelect2, shape.expression});
+      }
+    }
+    setFitFunction(table, link, fap, f);
+  }
+  return table;
+}
+
+std::span<const std::string_view> fitPresetNames() {
+  static constexpr std::array<std::string_view, 4> kNames{"left-right", "inner-outer-lip",
+                                                          "eyebrow", "expression"};
+  return kNames;
+}
+
+FitTable fitPreset(std::string_view name) {
+  if (name == "left-right") return leftRightFitTable();
+  if (name == "inner-outer-lip") return innerOuterLipFitTable();
+  if (name == "eyebrow") return eyebrowFitTable();
+  if (name == "expression") return expressionFitTable();
+  std::string known;
+  for (std::string_view n : fitPresetNames()) known += (known.empty() ? "" : ", ") + std::string(n);
+  throw Error({}, 0, "preset",
+              "unknown FIT preset '" + std::string(name) + "' (known: " + known + ")");
+}
+
+FitTable mergedFitTables(const FitTable& first, const FitTable& second) {
+  FitTable out = first;
+  const int offset = static_cast<int>(first.nodes.size());
+  out.nodes.insert(out.nodes.end(), second.nodes.begin(), second.nodes.end());
+  for (FitLink link : second.links) {
+    link.parent += offset;
+    link.child += offset;
+    out.links.push_back(std::move(link));
+  }
+  return out;
+}
+
+}  // namespace mpeg4face
