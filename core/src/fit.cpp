@@ -303,12 +303,12 @@ std::vector<std::string> fitProblems(const FitTable& table) {
   return problems;
 }
 
-void validateFitTable(const FitTable& table) {
+void validateFitTable(const FitTable& table, const std::string& source) {
   const std::vector<std::string> problems = fitProblems(table);
   if (problems.empty()) return;
   std::string message = "invalid FAP interpolation table: ";
   for (std::size_t i = 0; i < problems.size(); ++i) message += (i ? "; " : "") + problems[i];
-  throw Error({}, 0, "FIT", message);
+  throw Error(source, 0, "FIT", message);
 }
 
 double evaluateFitFunction(const FitFunction& function, const std::vector<int>& variables,

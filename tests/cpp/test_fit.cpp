@@ -7,6 +7,7 @@
 
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fit.hpp"
+#include "mpeg4face/fit_json.hpp"
 #include "mpeg4face/fit_presets.hpp"
 #include "test_support.hpp"
 
@@ -235,4 +236,42 @@ TEST(Fit, EditingAndValidationNameTheProblem) {
   EXPECT_THROW(fitPreset("nonsense"), Error);
   for (std::string_view name : fitPresetNames())
     EXPECT_TRUE(fitProblems(fitPreset(name)).empty()) << name;
+}
+
+TEST(FitJson, EveryPresetRoundTripsExactlyAndMalformedInputIsNamed) {
+  for (std::string_view name : fitPresetNames()) {
+    const FitTable table = fitPreset(name);
+    EXPECT_EQ(fitTableFromJson(fitTableToJson(table)), table) << name;
+  }
+  FitTable odd = innerOuterLipFitTable(977);  // coefficients without a short decimal form
+  odd.links[0].functions[0].numerator[0].coefficient = 0.1 + 0.2;
+  const auto dir = mpeg4face::test::scratchDir();
+  writeFitJson(odd, dir / "odd.json");
+  EXPECT_EQ(readFitJson(dir / "odd.json"), odd);
+
+  const std::string good = fitTableToJson(eyebrowFitTable());
+  const auto fieldOf = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    return errorOf([&] { fitTableFromJson(text, "table.json"); });
+  };
+  Error e = fieldOf("\"exponents\": [\n", "\"exponents\": [\n\"x\",");
+  EXPECT_EQ(e.field(), "links[0].functions[0].numerator[0].exponents[0]") << e.what();
+  EXPECT_EQ(e.file(), "table.json");
+  e = fieldOf("\"fap\": 35", "\"fap\": 36");
+  EXPECT_EQ(e.field(), "links[0].functions[1].fap") << e.what();
+  e = fieldOf("\"coefficient\": 1.0", "\"coeff\": 1.0");
+  EXPECT_EQ(e.field(), "links[0].functions[0].numerator[0]") << e.what();
+  e = fieldOf("\"child\": 1", "\"child\": 9");
+  EXPECT_EQ(e.field(), "links[0].child") << e.what();
+  e = fieldOf("[\n    [\n      33", "[\n    [\n      133");
+  EXPECT_EQ(e.field(), "FIT") << e.what();
+  EXPECT_NE(std::string(e.what()).find("node 0 has unknown FAP 133"), std::string::npos)
+      << e.what();
+  e = errorOf([&] { fitTableFromJson("{\"format\": ", "t.json"); });
+  EXPECT_EQ(e.field(), "JSON");
+  e = errorOf([&] { fitTableFromJson("{\"format\": \"other\", \"version\": 1}", "t.json"); });
+  EXPECT_EQ(e.field(), "format");
 }

@@ -88,8 +88,8 @@ FitFunction linearFitFunction(const std::vector<int>& parentFaps, int variable, 
 // select or with a value out of range, a function without a denominator term, a node that is
 // neither linked from nor to anything (unreachable and unused). Empty: valid.
 std::vector<std::string> fitProblems(const FitTable& table);
-// Throws mpeg4face::Error (field "FIT") listing fitProblems if there are any.
-void validateFitTable(const FitTable& table);
+// Throws mpeg4face::Error (field "FIT", file `source`) listing fitProblems if there are any.
+void validateFitTable(const FitTable& table, const std::string& source = {});
 
 // --- Evaluation ---------------------------------------------------------------------------
 // The value of one function for the parent's variables (fitVariables of the parent node)
