@@ -30,5 +30,17 @@ int runFat(const std::vector<std::string>& args);
 int runExport(const std::vector<std::string>& args);
 int runApply(const std::vector<std::string>& args);
 int runClone(const std::vector<std::string>& args);
+int runFit(const std::vector<std::string>& args);
+
+}  // namespace mpeg4face::cli
+
+namespace mpeg4face {
+struct FitTable;
+}
+
+namespace mpeg4face::cli {
+
+// A FAP Interpolation Table from its JSON form (the --fit option of encode and decode).
+FitTable readFitTableFile(const std::string& path);
 
 }  // namespace mpeg4face::cli

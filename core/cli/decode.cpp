@@ -2,21 +2,26 @@
 // `mpeg4face decode`: an FBA bitstream back to a .fap stream.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit.hpp"
 
 namespace mpeg4face::cli {
 
 int runDecode(const std::vector<std::string>& args) {
-  std::string input, output;
+  std::string input, output, fit;
   for (size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "-o") {
       output = optionValue(args, i, "an output file");
+    } else if (args[i] == "--fit") {
+      fit = optionValue(args, i, "a FAP Interpolation Table (.json)");
     } else if (args[i].starts_with("-")) {
       throw UsageError("unknown option '" + args[i] + "'");
     } else if (input.empty()) {
@@ -28,10 +33,20 @@ int runDecode(const std::vector<std::string>& args) {
   if (input.empty()) throw UsageError("no input .fba file given");
   if (output.empty()) throw UsageError("no output given (-o OUT.fap)");
 
+  const std::optional<FitTable> table =
+      fit.empty() ? std::nullopt : std::optional(readFitTableFile(fit));
   const std::string bytes = readFile(input);
   FapStream stream =
       decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, input);
   stream.name = std::filesystem::path(input).stem().string();  // the bitstream has no name
+  if (table) {
+    try {
+      const int computed = interpolateFitStream(*table, stream);
+      std::printf("%s: %d FAP values interpolated\n", fit.c_str(), computed);
+    } catch (const Error& e) {
+      throw Error(fit, 0, e.field(), e.reason());
+    }
+  }
   writeFapFile(output, stream);
   std::printf("%s: %zu frames at %g Hz -> %s\n", input.c_str(), stream.frames.size(),
               stream.frameRate, output.c_str());

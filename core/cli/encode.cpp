@@ -15,6 +15,7 @@
 #include "mpeg4face/fap_rd.hpp"
 #include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit_learn.hpp"
 
 namespace mpeg4face::cli {
 namespace {
@@ -29,6 +30,7 @@ struct EncodeArgs {
   bool fapQuantGiven = false;
   bool pcaTemporalGiven = false;
   bool json = false;
+  std::string fit;  // a FAP Interpolation Table: leave out the FAPs it derives
 };
 
 EncodeArgs parseArgs(const std::vector<std::string>& args) {
@@ -64,6 +66,8 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
     } else if (a == "--json") {
       out.json = true;
+    } else if (a == "--fit") {
+      out.fit = optionValue(args, i, "a FAP Interpolation Table (.json)");
     } else if (a.starts_with("-")) {
       throw UsageError("unknown option '" + a + "'");
     } else if (out.input.empty()) {
@@ -99,11 +103,21 @@ std::string decibels(const std::optional<double>& db) {
 int runEncode(const std::vector<std::string>& rawArgs) {
   EncodeArgs args = parseArgs(rawArgs);
   const FapStream input = readFapFile(args.input);
+  std::optional<FitTable> table;
+  FapStream sent = input;
+  int leftOut = 0;
+  if (!args.fit.empty()) {
+    table = readFitTableFile(args.fit);
+    sent = withoutDerivedFaps(*table, input);
+    for (std::size_t f = 0; f < input.frames.size(); ++f) {
+      leftOut += static_cast<int>(input.frames[f].mask.count() - sent.frames[f].mask.count());
+    }
+  }
   FbaEncoding enc;
   try {
     if (args.autoMode) {
       const std::optional<RdPoint> best =
-          cheapestEncoding(input, *args.psnrTarget, allCodingModes(), args.options);
+          cheapestEncoding(sent, *args.psnrTarget, allCodingModes(), args.options);
       if (!best) {
         throw Error({}, 0, "PSNR target",
                     "no mode and fap_quant reaches " + decibels(args.psnrTarget));
@@ -112,14 +126,16 @@ int runEncode(const std::vector<std::string>& rawArgs) {
       args.options.pcaTemporal = best->pcaTemporal;
       args.options.fapQuant = best->fapQuant;
     }
-    enc = encodeFba(input, args.options);
+    enc = encodeFba(sent, args.options);
   } catch (const Error& e) {
     throw Error(args.input, 0, e.field(), e.reason());
   }
+  // The decoder's view: with a table, what it interpolates counts against the original.
+  FapStream decoded = comparableReconstruction(input, enc.reconstruction);
+  if (table) interpolateFitStream(*table, decoded);
   writeFileAtomically(args.output, std::string(enc.bytes.begin(), enc.bytes.end()));
 
-  const FapComparison quality =
-      compareFapStreams(input, comparableReconstruction(input, enc.reconstruction));
+  const FapComparison quality = compareFapStreams(input, decoded);
   bool lossless = quality.visemeMismatches == 0 && quality.expressionMismatches == 0;
   for (const FapError& e : quality.faps) lossless &= e.maxAbs == 0;
   const auto bits = static_cast<double>(enc.stats.bits);
@@ -136,6 +152,10 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     if (args.autoMode) j["psnr_target_db"] = *args.psnrTarget;
     j["fap_quant"] = args.options.fapQuant;
     j["intra_period"] = args.options.intraPeriod;
+    if (table) {
+      j["fit"] = args.fit;
+      j["fit_values_left_out"] = leftOut;
+    }
     j["frames"] = input.frames.size();
     j["frame_rate"] = input.frameRate;
     j["bits"] = enc.stats.bits;
@@ -161,6 +181,9 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   }
   std::printf("%s: %s, fap_quant %d, intra frames: %d\n", args.output.c_str(), mode.c_str(),
               args.options.fapQuant, enc.stats.intraFrames);
+  if (table) {
+    std::printf("%s: %d values left out, the decoder derives them\n", args.fit.c_str(), leftOut);
+  }
   if (args.autoMode) {
     std::printf("auto: the fewest bits of every mode and fap_quant reaching %s\n",
                 decibels(args.psnrTarget).c_str());

@@ -29,7 +29,7 @@ constexpr std::array kCommands{
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
             "mpeg4face encode IN.fap -o OUT.fba [--mode predictive|dct|pca] [--fap-quant Q]\n"
             "                 [--intra-period N] [--pca-temporal T] [--pca-basis-bits B] [--json]\n"
-            "                 | --mode auto --psnr DB\n"
+            "                 | --mode auto --psnr DB  [--fit TABLE.json]\n"
             "  --mode M          predictive (default): quantised differences, arithmetic coded\n"
             "                    dct: 16-frame segments, a DCT per FAP (docs/dct-mode.md)\n"
             "                    pca: KLT per FAP group, basis in the header (docs/pca-mode.md)\n"
@@ -41,10 +41,14 @@ constexpr std::array kCommands{
             "  --pca-basis-bits B  pca: fraction bits of the basis sent, 1..15 (default 4)\n"
             "  --intra-period N  an intra frame at least every N frames (default 0: only the\n"
             "                    first frame and where the set of FAPs changes)\n"
+            "  --fit T  leave out the FAPs that FAP Interpolation Table T derives from the rest\n"
+            "           (the PSNR counts them as the decoder interpolates them)\n"
             "  --json  print one JSON object (keys bits, bits_per_second, psnr_db, ...)\n",
             mpeg4face::cli::runEncode},
     Command{"decode", "decode an MPEG-4 FBA bitstream to a .fap stream",
-            "mpeg4face decode IN.fba -o OUT.fap\n", mpeg4face::cli::runDecode},
+            "mpeg4face decode IN.fba [--fit TABLE.json] -o OUT.fap\n"
+            "  --fit T  fill the FAPs a frame lacks with FAP Interpolation Table T\n",
+            mpeg4face::cli::runDecode},
     Command{"rd", "rate-distortion of a .fap stream: every mode and fap_quant, CSV and plot",
             "mpeg4face rd IN.fap --csv OUT.csv [--plot OUT.png]\n"
             "  --csv F   one row per encoding: mode, fap_quant, bits, bits_per_sample,\n"
@@ -84,6 +88,19 @@ constexpr std::array kCommands{
             "  OUT gets the target with its FaceDefTables; a glTF also the cloned copies as\n"
             "  shape keys. Progress on stderr. docs/clone.md\n",
             mpeg4face::cli::runClone},
+    Command{"fit", "FAP Interpolation Tables: from a preset, learned from streams, tried",
+            "mpeg4face fit preset NAME[,NAME...] [--fmax F] -o TABLE.json\n"
+            "mpeg4face fit learn STREAM.fap... [--graph NAME[,NAME...] | --table T.json]\n"
+            "                    [--degree D] -o TABLE.json\n"
+            "mpeg4face fit try TABLE.json STREAM.fap [--fap-quant Q]\n"
+            "  presets: left-right, inner-outer-lip, eyebrow, expression (docs/fit.md)\n"
+            "  --fmax F     inner-outer-lip: Fmax of the upper-lip thinning (default 1024)\n"
+            "  learn fits every link's functions to the streams by least squares, monomials\n"
+            "  of degree 1..D (default 1) of the parent FAPs; the graph is the presets'\n"
+            "  (default left-right,inner-outer-lip,eyebrow) or that of --table\n"
+            "  try leaves out what the table derives, codes, decodes and interpolates:\n"
+            "  bits saved and the PSNR of the derived FAPs\n",
+            mpeg4face::cli::runFit},
 };
 
 void printHelp(std::FILE* out) {

@@ -2,6 +2,7 @@
 // The FAP Interpolation Table as JSON, with nlohmann::json.
 #include "mpeg4face/fit_json.hpp"
 
+#include <cctype>
 #include <nlohmann/json.hpp>
 
 #include "mpeg4face/error.hpp"
@@ -78,6 +79,33 @@ struct Reader {
   }
 };
 
+// nlohmann's indented output puts every array element on a line of its own; FAP sets and
+// exponent lists read better on one line each.
+std::string withFlatInnerArrays(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const std::size_t close = text[i] == '[' ? text.find(']', i) : std::string::npos;
+    if (close == std::string::npos || text.find_first_of("[{\"", i + 1) < close) {
+      out += text[i];
+      continue;
+    }
+    out += '[';
+    bool space = false;
+    for (std::size_t k = i + 1; k < close; ++k) {
+      if (std::isspace(static_cast<unsigned char>(text[k]))) {
+        space = true;
+      } else {
+        if (space && out.back() == ',') out += ' ';
+        space = false;
+        out += text[k];
+      }
+    }
+    out += ']';
+    i = close;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string fitTableToJson(const FitTable& table) {
@@ -96,7 +124,7 @@ std::string fitTableToJson(const FitTable& table) {
     }
     j["links"].push_back(std::move(l));
   }
-  return j.dump(2) + "\n";
+  return withFlatInnerArrays(j.dump(2)) + "\n";
 }
 
 FitTable fitTableFromJson(const std::string& text, const std::string& source) {

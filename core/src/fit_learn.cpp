@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/fap_rd.hpp"
 
 namespace mpeg4face {
 namespace {
@@ -186,14 +187,8 @@ FitTrial tryFitTable(const FitTable& table, const FapStream& stream,
   trial.bitsAll = encodeFba(stream, options).stats.bits;
   const FbaEncoding coded = encodeFba(sent, options);
   trial.bitsSent = coded.stats.bits;
-  FapStream decoded = coded.reconstruction;
+  FapStream decoded = comparableReconstruction(stream, coded.reconstruction);
   trial.interpolated = interpolateFitStream(table, decoded);
-  // The reconstruction may have an empty frame 0 in front; compare on the original's frames.
-  if (decoded.frames.size() > stream.frames.size()) {
-    decoded.frames.erase(decoded.frames.begin(),
-                         decoded.frames.end() - static_cast<std::ptrdiff_t>(stream.frames.size()));
-  }
-  decoded.frameRate = stream.frameRate;
   trial.all = compareFapStreams(stream, decoded);
   FapStream original = stream, interpolated = decoded;
   for (std::size_t f = 0; f < original.frames.size(); ++f) {

@@ -257,7 +257,7 @@ TEST(FitJson, EveryPresetRoundTripsExactlyAndMalformedInputIsNamed) {
     text.replace(at, from.size(), to);
     return errorOf([&] { fitTableFromJson(text, "table.json"); });
   };
-  Error e = fieldOf("\"exponents\": [\n", "\"exponents\": [\n\"x\",");
+  Error e = fieldOf("\"exponents\": [1]", "\"exponents\": [\"x\"]");
   EXPECT_EQ(e.field(), "links[0].functions[0].numerator[0].exponents[0]") << e.what();
   EXPECT_EQ(e.file(), "table.json");
   e = fieldOf("\"fap\": 35", "\"fap\": 36");
@@ -266,7 +266,7 @@ TEST(FitJson, EveryPresetRoundTripsExactlyAndMalformedInputIsNamed) {
   EXPECT_EQ(e.field(), "links[0].functions[0].numerator[0]") << e.what();
   e = fieldOf("\"child\": 1", "\"child\": 9");
   EXPECT_EQ(e.field(), "links[0].child") << e.what();
-  e = fieldOf("[\n    [\n      33", "[\n    [\n      133");
+  e = fieldOf("[33]", "[133]");
   EXPECT_EQ(e.field(), "FIT") << e.what();
   EXPECT_NE(std::string(e.what()).find("node 0 has unknown FAP 133"), std::string::npos)
       << e.what();
