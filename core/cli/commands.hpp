@@ -40,7 +40,8 @@ struct FitTable;
 
 namespace mpeg4face::cli {
 
-// A FAP Interpolation Table from its JSON form (the --fit option of encode and decode).
+// A FAP Interpolation Table from its JSON form, or the FIT node of a face's .wrl (the --fit
+// option of encode and decode, and fit try).
 FitTable readFitTableFile(const std::string& path);
 
 }  // namespace mpeg4face::cli

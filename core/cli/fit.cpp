@@ -3,6 +3,7 @@
 // tried on a stream. docs/fit.md.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "mpeg4face/fit_json.hpp"
 #include "mpeg4face/fit_learn.hpp"
 #include "mpeg4face/fit_presets.hpp"
+#include "mpeg4face/vrml.hpp"
 
 namespace mpeg4face::cli {
 namespace {
@@ -158,7 +160,12 @@ int runTry(const std::vector<std::string>& args) {
 
 }  // namespace
 
-FitTable readFitTableFile(const std::string& path) { return readFitJson(path); }
+FitTable readFitTableFile(const std::string& path) {
+  if (!std::filesystem::path(path).extension().string().ends_with(".wrl")) return readFitJson(path);
+  MpegFace face = readVrml(path);
+  if (!face.fit) throw Error(path, 0, "Face.fit", "the face has no FIT node");
+  return std::move(*face.fit);
+}
 
 int runFit(const std::vector<std::string>& args) {
   if (args.empty()) throw UsageError("no fit command given (preset, learn, try)");

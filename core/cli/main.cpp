@@ -94,6 +94,8 @@ constexpr std::array kCommands{
             "                    [--degree D] -o TABLE.json\n"
             "mpeg4face fit try TABLE.json STREAM.fap [--fap-quant Q]\n"
             "  presets: left-right, inner-outer-lip, eyebrow, expression (docs/fit.md)\n"
+            "  a TABLE read (try, encode --fit, decode --fit) is .json or a face's .wrl with\n"
+            "  a FIT node\n"
             "  --fmax F     inner-outer-lip: Fmax of the upper-lip thinning (default 1024)\n"
             "  learn fits every link's functions to the streams by least squares, monomials\n"
             "  of degree 1..D (default 1) of the parent FAPs; the graph is the presets'\n"

@@ -14,6 +14,7 @@
 
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit_node.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/vrml.hpp"
 #include "text_reader.hpp"
@@ -253,6 +254,7 @@ struct GroupNode {  // Transform, Group, Anchor, Collision
 };
 struct FaceNode {
   NodePtr fdp;
+  NodePtr fit;
   bool topLevel = false;
 };
 struct FdpNode {
@@ -273,6 +275,9 @@ struct FaceDefTransformNode {
   int fieldId = 1;
   FaceDefTransform def;
 };
+struct FitNode {
+  FitNodeFields fields;
+};
 struct WorldInfoNode {
   std::string title;
   std::vector<std::string> info;
@@ -284,7 +289,8 @@ struct Node {
   int line = 0;
   std::vector<std::pair<std::string_view, int>> fieldLines;  // where each field was given
   std::variant<std::monostate, PointsNode, IndexedFaceSetNode, ShapeNode, GroupNode, FaceNode,
-               FdpNode, FaceDefTablesNode, FaceDefMeshNode, FaceDefTransformNode, WorldInfoNode>
+               FdpNode, FaceDefTablesNode, FaceDefMeshNode, FaceDefTransformNode, FitNode,
+               WorldInfoNode>
       data;
 
   int lineOf(std::string_view field) const {
@@ -494,6 +500,8 @@ class Parser {
       node.data = FaceDefMeshNode{};
     } else if (type == "FaceDefTransform") {
       node.data = FaceDefTransformNode{};
+    } else if (type == "FIT") {
+      node.data = FitNode{};
     } else if (type == "WorldInfo") {
       node.data = WorldInfoNode{};
     }
@@ -539,8 +547,32 @@ class Parser {
     } else if (auto* face = std::get_if<FaceNode>(&node.data)) {
       if (f == "fdp")
         face->fdp = nodeStatement(name);
-      else if (f == "fap" || f == "fit" || f == "ttsSource" || f == "renderedFace")
+      else if (f == "fit")
+        face->fit = nodeStatement(name);
+      else if (f == "fap" || f == "ttsSource" || f == "renderedFace")
         skipValue(name);
+      else
+        return false;
+    } else if (auto* fit = std::get_if<FitNode>(&node.data)) {
+      FitNodeFields& x = fit->fields;
+      const std::pair<std::string_view, std::vector<int>*> intFields[]{
+          {"FAPs", &x.FAPs},
+          {"Graph", &x.Graph},
+          {"numeratorExp", &x.numeratorExp},
+          {"denominatorExp", &x.denominatorExp},
+          {"numeratorImpulse", &x.numeratorImpulse},
+          {"numeratorTerms", &x.numeratorTerms},
+          {"denominatorTerms", &x.denominatorTerms}};
+      for (const auto& [key, values] : intFields) {
+        if (f == key) {
+          ints(name, *values);
+          return true;
+        }
+      }
+      if (f == "numeratorCoefs")
+        numbers(name, x.numeratorCoefs, 1);
+      else if (f == "denominatorCoefs")
+        numbers(name, x.denominatorCoefs, 1);
       else
         return false;
     } else if (auto* fdp = std::get_if<FdpNode>(&node.data)) {
@@ -656,6 +688,7 @@ class Parser {
       finishFdp(node, *fdp);
     } else if (auto* face = std::get_if<FaceNode>(&node.data)) {
       requireType(node, "fdp", face->fdp, "FDP");
+      requireType(node, "fit", face->fit, "FIT");
     }
   }
 
@@ -981,6 +1014,13 @@ class Builder {
       for (const NodePtr& n : fdp->faceSceneGraph) place(n, -1);
       for (const NodePtr& n : fdp->faceDefTables) table(*n);
       featurePointsCoord(fdp->featurePointsCoord);
+      if (const FitNode* fit = as<FitNode>(faceNode.fit)) {
+        try {
+          face_.fit = fitTableFromNode(fit->fields, file_);
+        } catch (const Error& e) {
+          fail(faceNode.fit->line, e.field(), e.reason());
+        }
+      }
     } else {
       for (const NodePtr& n : parser_.topLevel_) place(n, -1);
     }

@@ -6,6 +6,7 @@
 
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit_node.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/vrml.hpp"
 #include "vrml_names.hpp"
@@ -167,7 +168,9 @@ class Writer {
         "# An MPEG-4 face (ISO/IEC 14496 FDP with Face Animation Tables) written by mpeg4face.\n"
         "# The PROTOs declare the MPEG-4 nodes so that VRML97 readers accept them.\n\n";
     out_ += protoDeclarations();
-    out_ += "\nFace {\n  fap FAP {}\n  fdp FDP {\n";
+    out_ += "\nFace {\n  fap FAP {}\n";
+    writeFit(2);
+    out_ += "  fdp FDP {\n";
     writeFeaturePointsCoord(4);
     writeSceneGraph(4);
     writeTables(4);
@@ -375,6 +378,35 @@ class Writer {
       number(v);
     }
     out_ += " ]\n";
+  }
+
+  void writeFit(int n) {
+    if (!face_.fit) return;
+    const FitNodeFields f = fitNodeFields(*face_.fit);
+    indent(n);
+    out_ += "fit FIT {\n";
+    for (const auto& [name, values] : {std::pair{"FAPs", &f.FAPs}, std::pair{"Graph", &f.Graph},
+                                       std::pair{"numeratorExp", &f.numeratorExp},
+                                       std::pair{"denominatorExp", &f.denominatorExp},
+                                       std::pair{"numeratorImpulse", &f.numeratorImpulse},
+                                       std::pair{"numeratorTerms", &f.numeratorTerms},
+                                       std::pair{"denominatorTerms", &f.denominatorTerms}}) {
+      indent(n + 2);
+      intList(name, *values);
+    }
+    for (const auto& [name, values] : {std::pair{"numeratorCoefs", &f.numeratorCoefs},
+                                       std::pair{"denominatorCoefs", &f.denominatorCoefs}}) {
+      indent(n + 2);
+      out_ += name;
+      out_ += " [";
+      for (double v : *values) {
+        out_ += ' ';
+        number(v);
+      }
+      out_ += " ]\n";
+    }
+    indent(n);
+    out_ += "}\n";
   }
 
   void writeFeaturePointsCoord(int n) {

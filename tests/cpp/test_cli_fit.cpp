@@ -10,6 +10,7 @@
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/fit_json.hpp"
 #include "mpeg4face/fit_presets.hpp"
+#include "mpeg4face/vrml.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -114,4 +115,22 @@ TEST(CliFit, LearnAndTryReportWhatTheyDid) {
   EXPECT_EQ(runCli("fit frobnicate").status, 2);
 }
 
+}  // namespace
+
+namespace {
+TEST(CliFit, TableFromAFacesFitNode) {
+  const auto dir = scratchDir();
+  MpegFace face;
+  face.fit = leftRightFitTable();
+  writeVrml(face, dir / "face.wrl");
+  const std::string part = (dir / "part.fba").string();
+  const auto r = runCli("encode " + kJoy + " -o " + part + " --fit " + (dir / "face.wrl").string() +
+                        " --json");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_GT(nlohmann::json::parse(r.stdoutOnly)["fit_values_left_out"].get<int>(), 0);
+  writeVrml(MpegFace{}, dir / "plain.wrl");
+  const auto e = runCli("fit try " + (dir / "plain.wrl").string() + " " + kJoy);
+  EXPECT_EQ(e.status, 1);
+  EXPECT_TRUE(has(e.out, "the face has no FIT node")) << e.out;
+}
 }  // namespace

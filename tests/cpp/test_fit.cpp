@@ -8,6 +8,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fit.hpp"
 #include "mpeg4face/fit_json.hpp"
+#include "mpeg4face/fit_node.hpp"
 #include "mpeg4face/fit_presets.hpp"
 #include "test_support.hpp"
 
@@ -274,4 +275,22 @@ TEST(FitJson, EveryPresetRoundTripsExactlyAndMalformedInputIsNamed) {
   EXPECT_EQ(e.field(), "JSON");
   e = errorOf([&] { fitTableFromJson("{\"format\": \"other\", \"version\": 1}", "t.json"); });
   EXPECT_EQ(e.field(), "format");
+}
+
+TEST(FitNode, EveryPresetRoundTripsThroughTheBifsFields) {
+  for (std::string_view name : fitPresetNames()) {
+    const FitTable table = fitPreset(name);
+    const FitNodeFields fields = fitNodeFields(table);
+    EXPECT_EQ(fitTableFromNode(fields), table) << name;
+  }
+  // The layout by hand for one link {33} -> {31, 35}, f = F each.
+  const FitNodeFields f = fitNodeFields(eyebrowFitTable());
+  EXPECT_EQ(std::vector<int>(f.FAPs.begin(), f.FAPs.begin() + 5),
+            (std::vector<int>{33, -1, 31, 35, -1}));
+  EXPECT_EQ(f.Graph, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(f.numeratorTerms, (std::vector<int>{1, 1, 1, 1}));
+  EXPECT_EQ(f.numeratorExp, (std::vector<int>{1, 1, 1, 1}));
+  EXPECT_EQ(f.denominatorExp, (std::vector<int>{0, 0, 0, 0}));
+  EXPECT_EQ(f.numeratorImpulse, (std::vector<int>(8, 0)));
+  EXPECT_EQ(f.numeratorCoefs, (std::vector<double>(4, 1.0)));
 }

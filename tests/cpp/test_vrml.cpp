@@ -16,6 +16,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit_presets.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/vrml.hpp"
 #include "test_support.hpp"
@@ -185,6 +186,9 @@ MpegFace richFace() {
   expression.faceDefMesh = {expressionMotion};
 
   face.faceDefTables = {openJaw, yaw, pitch, viseme, expression};
+  // A FAP Interpolation Table with impulses, a non-linear term and coefficients without a
+  // short decimal form.
+  face.fit = mergedFitTables(expressionFitTable(), innerOuterLipFitTable(977));
   return face;
 }
 
@@ -273,6 +277,36 @@ void expectSameFace(const MpegFace& written, const MpegFace& read, double relati
       EXPECT_TRUE(same(p.rotationDef, q.rotationDef));
       EXPECT_TRUE(same(p.scaleDef, q.scaleDef));
       EXPECT_TRUE(same(p.translationDef, q.translationDef));
+    }
+  }
+  ASSERT_EQ(written.fit.has_value(), read.fit.has_value());
+  if (!written.fit) return;
+  const FitTable& x = *written.fit;
+  const FitTable& y = *read.fit;
+  EXPECT_EQ(x.nodes, y.nodes);
+  ASSERT_EQ(x.links.size(), y.links.size());
+  for (std::size_t k = 0; k < x.links.size(); ++k) {
+    EXPECT_EQ(x.links[k].parent, y.links[k].parent);
+    EXPECT_EQ(x.links[k].child, y.links[k].child);
+    ASSERT_EQ(x.links[k].functions.size(), y.links[k].functions.size());
+    for (std::size_t f = 0; f < x.links[k].functions.size(); ++f) {
+      for (const auto& [p, q] :
+           {std::pair{&x.links[k].functions[f].numerator, &y.links[k].functions[f].numerator},
+            std::pair{&x.links[k].functions[f].denominator,
+                      &y.links[k].functions[f].denominator}}) {
+        ASSERT_EQ(p->size(), q->size());
+        for (std::size_t t = 0; t < p->size(); ++t) {
+          EXPECT_EQ((*p)[t].exponents, (*q)[t].exponents);
+          EXPECT_EQ((*p)[t].impulseSelect, (*q)[t].impulseSelect);
+          EXPECT_EQ((*p)[t].impulseValue, (*q)[t].impulseValue);
+          const double u = (*p)[t].coefficient, v = (*q)[t].coefficient;
+          if (relative == 0) {
+            EXPECT_EQ(u, v);
+          } else {
+            EXPECT_LE(std::abs(u - v), relative * std::max(1.0, std::abs(u)));
+          }
+        }
+      }
     }
   }
 }
@@ -709,3 +743,44 @@ INSTANTIATE_TEST_SUITE_P(
       std::replace(name.begin(), name.end(), '.', '_');
       return name;
     });
+
+// A FIT node whose fields do not fit together: the file, the FIT node's line and the field.
+TEST(Vrml, MalformedFitNodeIsNamed) {
+  const auto face = [](const std::string& fit) {
+    return "#VRML V2.0 utf8\nFace {\n  fdp FDP {}\n  fit FIT {\n" + fit + "\n  }\n}\n";
+  };
+  const std::string good =
+      "FAPs [ 33 -1 31 -1 ] Graph [ 0 1 ] numeratorTerms [ 1 ] denominatorTerms [ 1 ]\n"
+      "numeratorExp [ 1 ] denominatorExp [ 0 ] numeratorImpulse [ 0 0 ]\n"
+      "numeratorCoefs [ 0.5 ] denominatorCoefs [ 1 ]";
+  const MpegFace read = parseVrml(face(good), "fit.wrl");
+  ASSERT_TRUE(read.fit.has_value());
+  EXPECT_EQ(read.fit->links[0].functions[0].numerator[0].coefficient, 0.5);
+  Error e = errorOf([&] {
+    parseVrml(
+        face("FAPs [ 33 -1 31 -1 ] Graph [ 0 1 ] numeratorTerms [ 2 ] denominatorTerms [ 1 ]\n"
+             "numeratorExp [ 1 ] denominatorExp [ 0 ] numeratorImpulse [ 0 0 ]\n"
+             "numeratorCoefs [ 0.5 ] denominatorCoefs [ 1 ]"),
+        "fit.wrl");
+  });
+  EXPECT_EQ(e.file(), "fit.wrl");
+  EXPECT_EQ(e.line(), 4);
+  EXPECT_EQ(e.field(), "FIT.numeratorExp");
+  e = errorOf([&] { parseVrml(face("FAPs [ 33 -1 31 ] Graph [ 0 1 ]"), "fit.wrl"); });
+  EXPECT_EQ(e.field(), "FIT.FAPs");
+  e = errorOf([&] { parseVrml(face("FAPs [ 33 -1 31 -1 ] Graph [ 0 7 ]"), "fit.wrl"); });
+  EXPECT_EQ(e.field(), "FIT.Graph");
+  e = errorOf([&] { parseVrml(face(good + " numeratorCoefs [ 0.5 2 ]"), "fit.wrl"); });
+  EXPECT_EQ(e.field(), "FIT.numeratorCoefs");
+  e = errorOf([&] { parseVrml(face(good + " bogus [ 1 ]"), "fit.wrl"); });
+  EXPECT_EQ(e.line(), 7);
+  e = errorOf([&] {
+    parseVrml(
+        face("FAPs [ 99 -1 31 -1 ] Graph [ 0 1 ] numeratorTerms [ 1 ] denominatorTerms [ 1 ]\n"
+             "numeratorExp [ 1 ] denominatorExp [ 0 ] numeratorImpulse [ 0 0 ]\n"
+             "numeratorCoefs [ 0.5 ] denominatorCoefs [ 1 ]"),
+        "fit.wrl");
+  });
+  EXPECT_EQ(e.field(), "FIT");
+  EXPECT_TRUE(contains(e.reason(), "node 0 has unknown FAP 99")) << e.what();
+}

@@ -5,12 +5,14 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "mpeg4face/face_model.hpp"
 #include "mpeg4face/fap_stream.hpp"
 #include "mpeg4face/fapu.hpp"
+#include "mpeg4face/fit.hpp"
 
 namespace mpeg4face {
 
@@ -54,6 +56,8 @@ struct FaceDefTables {
 struct MpegFace {
   FaceModel faceSceneGraph;
   std::vector<FaceDefTables> faceDefTables;
+  std::optional<FitTable> fit =
+      std::nullopt;  // the Face node's FAP Interpolation Table, if it has one
 };
 
 // The coefficient of each interval for a FAP value, so that a vertex moves by
