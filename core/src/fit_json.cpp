@@ -132,7 +132,7 @@ FitTable fitTableFromJson(const std::string& text, const std::string& source) {
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse_error, and out_of_range for 1e999
     throw Error(source, 0, "JSON", std::string("not valid JSON: ") + e.what());
   }
   const Json& format = r.member(j, "(top)", "format");

@@ -12,11 +12,11 @@
 namespace mpeg4face {
 namespace {
 
-// Exponent vectors of n variables with total degree 1..degree, lowest degree first.
+// Exponent vectors of n variables with total degree 0..degree, lowest degree first.
 std::vector<std::vector<int>> monomials(int n, int degree) {
   std::vector<std::vector<int>> out;
   std::vector<int> e(static_cast<std::size_t>(n), 0);
-  for (int total = 1; total <= degree; ++total) {
+  for (int total = 0; total <= degree; ++total) {
     // Every way to spread `total` over n variables, first variable highest first.
     const auto spread = [&](auto&& self, int j, int left) -> void {
       if (j == n - 1) {

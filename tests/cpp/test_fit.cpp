@@ -273,6 +273,8 @@ TEST(FitJson, EveryPresetRoundTripsExactlyAndMalformedInputIsNamed) {
       << e.what();
   e = errorOf([&] { fitTableFromJson("{\"format\": ", "t.json"); });
   EXPECT_EQ(e.field(), "JSON");
+  e = fieldOf("\"coefficient\": 1.0", "\"coefficient\": 3E999999");  // found by fuzz_fit
+  EXPECT_EQ(e.field(), "JSON");
   e = errorOf([&] { fitTableFromJson("{\"format\": \"other\", \"version\": 1}", "t.json"); });
   EXPECT_EQ(e.field(), "format");
 }

@@ -49,23 +49,24 @@ TEST(FitLearn, RecoversAQuadraticAndReportsTheResidual) {
     f.number = n;
     const int x = 10 * n - 250;
     f.set(33, x);
-    f.set(31, static_cast<int>(std::lround(0.5 * x - 0.002 * x * x)));
+    f.set(31, static_cast<int>(std::lround(5 + 0.5 * x - 0.002 * x * x)));
   }
   FitTable t = oneLink(33, 31);
   auto report = learnFitTable(t, std::span(&s, 1), 2);
   ASSERT_EQ(report.size(), 1u);
   EXPECT_TRUE(report[0].fitted);
   EXPECT_EQ(report[0].samples, 50);
-  EXPECT_EQ(report[0].terms, 2);  // F and F^2: no constant, a FAP is 0 on the neutral face
+  EXPECT_EQ(report[0].terms, 3);  // 1, F, F^2
   EXPECT_LT(report[0].rms, 0.5);  // only the rounding of the data
   const auto& num = t.links[0].functions[0].numerator;
-  ASSERT_EQ(num.size(), 2u);
-  EXPECT_NEAR(num[0].coefficient, 0.5, 1e-3);
-  EXPECT_NEAR(num[1].coefficient, -0.002, 1e-5);
+  ASSERT_EQ(num.size(), 3u);
+  EXPECT_NEAR(num[0].coefficient, 5, 0.3);
+  EXPECT_NEAR(num[1].coefficient, 0.5, 1e-3);
+  EXPECT_NEAR(num[2].coefficient, -0.002, 1e-5);
   FapFrame f;
   f.set(33, 100);
   interpolateFitFrame(t, f);
-  EXPECT_EQ(f.value(31), 30);
+  EXPECT_EQ(f.value(31), 35);
   // Degree 1 cannot follow the curve: a larger residual.
   FitTable linear = oneLink(33, 31);
   EXPECT_GT(learnFitTable(linear, std::span(&s, 1), 1)[0].rms, 10);

@@ -30,9 +30,9 @@ struct FitFunctionFit {
 // Fits every function of every link of `table` by least squares (Eigen, column-pivoting QR,
 // columns scaled) on the frames of `streams` where the parent's FAPs and the child FAP are
 // all sent (resolved states: a FAP holds its last value; a mirrored value does not count).
-// The numerator becomes every monomial of the parent's variables of total degree 1..degree
-// (no constant: every FAP is 0 on the neutral face, and a fitted offset generalised worse to
-// held-out frames), the denominator 1; for a parent {2} (expression), Tao's Fig. 7
+// The numerator becomes every monomial of the parent's variables of total degree 0..degree
+// (a constant included: with it the learned tables did better on held-out frames,
+// docs/fit.md), the denominator 1; for a parent {2} (expression), Tao's Fig. 7
 // form: sum_j p_j (delta(select1 - j) intensity1 + delta(select2 - j) intensity2), j = 1..6.
 // Links from other parents with FAP 1 or 2 are left as they are. degree is 1..15.
 std::vector<FitFunctionFit> learnFitTable(FitTable& table, std::span<const FapStream> streams,
