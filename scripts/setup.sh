@@ -15,6 +15,7 @@ packages=(
   blender xvfb xauth                        # the add-on, headless and under a virtual display
   nodejs npm                                # gltf-validator
   view3dscene                               # tovrmlx3d, a third-party VRML97 reader for our .wrl
+  flite                                     # speech synthesis with phone timings (mpeg4face speak)
 )
 
 missing=()

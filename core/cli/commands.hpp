@@ -31,6 +31,7 @@ int runExport(const std::vector<std::string>& args);
 int runApply(const std::vector<std::string>& args);
 int runClone(const std::vector<std::string>& args);
 int runFit(const std::vector<std::string>& args);
+int runSpeak(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 

@@ -103,6 +103,18 @@ constexpr std::array kCommands{
             "  try leaves out what the table derives, codes, decodes and interpolates:\n"
             "  bits saved and the PSNR of the derived FAPs\n",
             mpeg4face::cli::runFit},
+    Command{"speak", "text with bookmarks to a FAP stream (visemes, expressions) and its audio",
+            "mpeg4face speak TEXT | --text-file F -o OUT.fap|.fba [--audio OUT.wav] [--fps N]\n"
+            "                [--voice V] [--transition S]\n"
+            "  flite speaks TEXT into the .wav (default: OUT with .wav) and gives the phones,\n"
+            "  which become visemes (FAP 1); bookmarks in the text start expressions and FAPs:\n"
+            "    <FAP 2 select1 intensity1 select2 intensity2 duration_ms curve>\n"
+            "    <FAP n value duration_ms curve>            (n = 3..68)\n"
+            "  curve 1 linear, 2 triangular (there and back), 3 Hermite (docs/speech.md)\n"
+            "  --fps N         frames per second (default 25)\n"
+            "  --voice V       flite's voice: kal, kal16, awb, rms, slt\n"
+            "  --transition S  the longest viseme transition, seconds (default 0.08)\n",
+            mpeg4face::cli::runSpeak},
 };
 
 void printHelp(std::FILE* out) {
