@@ -4,7 +4,9 @@
 The MPEG-4 face animation tables (FAPs, feature points, FAPU, FAP groups, visemes,
 expressions), a face model (a scene graph of meshes with morph targets and feature-point
 bindings, numpy arrays in and out), readers for glTF, OBJ, CANDIDE .wfm and feature-point
-CSV, a glTF writer, and FAPU measurement. Everything is implemented in C++ (mpeg4face._core);
+CSV, a glTF writer, FAPU measurement, FAP streams (.fap files, the FBA codec, PSNR, text to
+speech), faces with Face Animation Tables (from shape keys, VRML and glTF, animated by a
+stream), Facial Motion Cloning and FAP Interpolation Tables. Everything is implemented in C++ (mpeg4face._core);
 errors in input files raise mpeg4face.Error, a ValueError naming the file, line and field.
 
     >>> import mpeg4face
@@ -90,4 +92,29 @@ __all__ = [
     "ConstraintWarning",
     "measure_fapu",
     "check_location_constraints",
+    # FAP streams, their coding and speech
+    "FapStream",
+    "FbaEncoding",
+    "read_fap",
+    "write_fap",
+    "read_fap_stream",
+    "encode_fba",
+    "decode_fba",
+    "psnr",
+    "speak",
+    # faces with tables, cloning, FAP Interpolation Tables
+    "parse_shape_key_name",
+    "format_shape_key_name",
+    "MpegFace",
+    "generate_face",
+    "read_vrml",
+    "write_vrml",
+    "write_face_gltf",
+    "FatEvaluator",
+    "clone_feature_points",
+    "clone_face",
+    "FitTable",
+    "read_fit_json",
+    "fit_table_from_json",
+    "fit_preset",
 ]

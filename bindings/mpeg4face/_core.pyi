@@ -3,7 +3,7 @@
 
 import enum
 import os
-from typing import Iterable, Mapping, Sequence
+from typing import Callable, Iterable, Mapping, Sequence, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -403,3 +403,149 @@ def measure_fapu(model: FaceModel) -> FapuMeasurement: ...
 def check_location_constraints(
     model: FaceModel, fapu: FapuMeasurement, tolerance: float = 0.02
 ) -> list[ConstraintWarning]: ...
+
+# --- FAP streams, their coding and speech ---------------------------------------------------
+_Bool = npt.NDArray[np.bool_]
+
+class FapStream:
+    name: str
+    frame_rate: float
+    def __init__(self) -> None: ...
+    @staticmethod
+    def from_arrays(
+        frame_numbers: _ArrayLike,
+        mask: _ArrayLike,
+        values: _ArrayLike,
+        visemes: _ArrayLike | None = None,
+        expressions: _ArrayLike | None = None,
+        frame_rate: float = 25.0,
+        name: str = "",
+    ) -> FapStream: ...
+    @property
+    def duration(self) -> float: ...
+    def __len__(self) -> int: ...
+    @property
+    def frame_numbers(self) -> _Int32: ...  # (N,)
+    @property
+    def mask(self) -> _Bool: ...  # (N, 68), column i is FAP i + 1
+    @property
+    def values(self) -> _Int32: ...  # (N, 68)
+    @property
+    def visemes(self) -> _Int32: ...  # (N, 4) select1, select2, blend, def
+    @property
+    def expressions(self) -> _Int32: ...  # (N, 6) select1, intensity1, select2, intensity2, init_face, def
+    def resolved(self) -> dict[str, npt.NDArray[np.generic]]: ...
+
+class FbaEncoding:
+    @property
+    def data(self) -> bytes: ...
+    @property
+    def bits(self) -> int: ...
+    @property
+    def bits_per_second(self) -> float: ...
+    @property
+    def psnr(self) -> float | None: ...
+    @property
+    def intra_frames(self) -> int: ...
+    @property
+    def reconstruction(self) -> FapStream: ...
+
+def read_fap(path: _Path) -> FapStream: ...
+def write_fap(stream: FapStream, path: _Path) -> None: ...
+def read_fap_stream(path: _Path) -> FapStream: ...
+def encode_fba(
+    stream: FapStream,
+    mode: str = "predictive",
+    fap_quant: int = 1,
+    intra_period: int = 0,
+    pca_temporal: str = "predictive",
+    pca_basis_bits: int = 4,
+) -> FbaEncoding: ...
+def decode_fba(data: bytes, source: str = "") -> FapStream: ...
+def psnr(original: FapStream, decoded: FapStream) -> float | None: ...
+def speak(
+    text: str,
+    audio: _Path,
+    frame_rate: float = 25.0,
+    voice: str = "",
+    transition: float = 0.08,
+    program: str = "flite",
+) -> FapStream: ...
+
+# --- Faces with tables, cloning, FAP Interpolation Tables -----------------------------------
+
+class ShapeKeyName(TypedDict):
+    fap: int
+    select: int
+    amplitude: int
+    label: str
+
+def parse_shape_key_name(name: str) -> ShapeKeyName | None: ...
+def format_shape_key_name(fap: int, amplitude: int = 63, select: int = 0, label: str = "") -> str: ...
+
+class FitTable:
+    @property
+    def nodes(self) -> list[list[int]]: ...
+    @property
+    def link_count(self) -> int: ...
+    def problems(self) -> list[str]: ...
+    def interpolate(self, stream: FapStream) -> FapStream: ...
+    def to_json(self) -> str: ...
+
+def read_fit_json(path: _Path) -> FitTable: ...
+def fit_table_from_json(text: str, source: str = "FIT JSON") -> FitTable: ...
+def fit_preset(name: str) -> FitTable: ...
+
+class MpegFace:
+    fit: FitTable | None
+    @property
+    def scene_graph(self) -> FaceModel: ...
+    @property
+    def tables(self) -> list[dict[str, object]]: ...  # fap, select, meshes, transforms
+    def validate(self) -> None: ...
+
+class GeneratedFace(TypedDict):
+    face: MpegFace
+    copies: int
+    warnings: list[str]
+    ignored: list[str]
+
+def generate_face(
+    model: FaceModel, threshold: float = 0.01, absolute_threshold: float | None = None
+) -> GeneratedFace: ...
+def read_vrml(path: _Path) -> MpegFace: ...
+def write_vrml(face: MpegFace, path: _Path) -> None: ...
+def write_face_gltf(face: MpegFace, path: _Path, streams: Sequence[FapStream] = ...) -> None: ...
+
+class FatState(TypedDict):
+    coord: list[_Float64]  # one (N, 3) array per mesh
+    translation: _Float64  # (T, 3)
+    rotation: _Float64  # (T, 4) quaternions x, y, z, w
+    scale: _Float64  # (T, 3)
+
+class FatEvaluator:
+    def __init__(self, face: MpegFace) -> None: ...
+    def evaluate(self, stream: FapStream, index: int) -> FatState: ...
+    def neutral(self) -> FatState: ...
+
+class ClonedCopy(TypedDict):
+    name: str
+    fap: int
+    select: int
+    amplitude: int
+    displacements: list[_Float64]  # one (N, 3) array per target mesh
+
+class ClonedFace(TypedDict):
+    face: MpegFace
+    copies: list[ClonedCopy]
+    warnings: list[str]
+
+def clone_feature_points() -> list[str]: ...
+def clone_face(
+    source: FaceModel | MpegFace,
+    target: FaceModel,
+    filter_support: float = 0.02,
+    adaptive_filter: bool = True,
+    rigid_parts: bool = True,
+    progress: Callable[[str, float], None] | None = None,
+) -> ClonedFace: ...

@@ -80,4 +80,6 @@ PYBIND11_MODULE(_core, m) {
   python::bindModel(m);
   python::bindIo(m);
   python::bindFapu(m);
+  python::bindStream(m);
+  python::bindFace(m);
 }

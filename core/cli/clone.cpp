@@ -80,14 +80,6 @@ void bindFeaturePoints(const std::optional<std::string>& csvPath, FaceModel& mod
   warnings.insert(warnings.end(), csv.warnings.begin(), csv.warnings.end());
 }
 
-void makeNeutral(FaceModel& model) {
-  for (IndexedFaceSet& mesh : model.meshes) {
-    mesh.morphTargets.clear();
-    mesh.weights.clear();
-  }
-  model.animations.clear();
-}
-
 struct Source {
   FaceModel neutral;
   std::vector<DeformedCopy> copies;
@@ -102,7 +94,7 @@ Source tablesSource(MpegFace face, const FapuMeasurement& fapu, const std::strin
   Source out;
   out.copies = deformedCopiesFromFaceDefTables(face, fapu);
   out.neutral = std::move(face.faceSceneGraph);
-  makeNeutral(out.neutral);
+  out.neutral = neutralFaceModel(std::move(out.neutral));
   out.kind = "tables";
   return out;
 }
@@ -145,7 +137,7 @@ Source readSource(const Args& args, std::vector<std::string>& warnings) {
                 "expression (e.g. fap3_open_jaw@512; grammar in docs/fat.md)");
   }
   Source out{std::move(model), std::move(keys.copies), "shape keys"};
-  makeNeutral(out.neutral);
+  out.neutral = neutralFaceModel(std::move(out.neutral));
   return out;
 }
 
@@ -218,7 +210,7 @@ int runClone(const std::vector<std::string>& rawArgs) {
 
   FaceModel target = readModel(args.target);
   bindFeaturePoints(args.targetFeaturePoints, target, warnings);
-  makeNeutral(target);
+  target = neutralFaceModel(std::move(target));
   requireFeaturePoints(source.neutral, args.source, "--source-feature-points");
   requireFeaturePoints(target, args.target, "--target-feature-points");
 

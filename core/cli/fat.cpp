@@ -100,12 +100,7 @@ int runFat(const std::vector<std::string>& rawArgs) {
                 "fap3_open_jaw@512; grammar in docs/fat.md)");
   }
   // The basis scene graph is the neutral face: the targets are what the tables replace.
-  FaceModel neutral = model;
-  for (IndexedFaceSet& mesh : neutral.meshes) {
-    mesh.morphTargets.clear();
-    mesh.weights.clear();
-  }
-  neutral.animations.clear();
+  FaceModel neutral = neutralFaceModel(model);
   const FapuMeasurement fapu = measureFapu(neutral);
   GeneratorOptions options;
   if (args.threshold) options.threshold = *args.threshold;

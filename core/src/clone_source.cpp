@@ -84,12 +84,7 @@ FapFrame frameFor(const FaceDefTables& table, int amplitude) {
 std::vector<DeformedCopy> deformedCopiesFromFaceDefTables(const MpegFace& face,
                                                           const FapuMeasurement& fapu) {
   const FatEvaluator evaluator(face, fapu);  // validates the face and the FAPU it needs
-  FaceModel neutral = face.faceSceneGraph;
-  for (IndexedFaceSet& mesh : neutral.meshes) {
-    mesh.morphTargets.clear();
-    mesh.weights.clear();
-  }
-  neutral.animations.clear();
+  const FaceModel neutral = neutralFaceModel(face.faceSceneGraph);
 
   std::vector<DeformedCopy> copies;
   FatState state = evaluator.neutralState();

@@ -100,6 +100,15 @@ int FaceModel::addMeshWithTransform(IndexedFaceSet mesh) {
   return meshIndex;
 }
 
+FaceModel neutralFaceModel(FaceModel model) {
+  for (IndexedFaceSet& mesh : model.meshes) {
+    mesh.morphTargets.clear();
+    mesh.weights.clear();
+  }
+  model.animations.clear();
+  return model;
+}
+
 void FaceModel::validate() const {
   const int meshCount = static_cast<int>(meshes.size());
   const int transformCount = static_cast<int>(transforms.size());

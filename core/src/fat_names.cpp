@@ -162,12 +162,7 @@ std::string formatShapeKeyName(const ShapeKeyName& key) {
 
 ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model) {
   model.validate();
-  FaceModel basis = model;
-  basis.animations.clear();
-  for (IndexedFaceSet& mesh : basis.meshes) {
-    mesh.morphTargets.clear();
-    mesh.weights.clear();
-  }
+  const FaceModel basis = neutralFaceModel(model);
   ShapeKeyCopies out;
   std::map<std::string, std::size_t> copyOf;
   std::set<std::string> ignored;

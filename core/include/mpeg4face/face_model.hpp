@@ -113,4 +113,8 @@ struct FaceModel {
   void validate() const;
 };
 
+// The basis of a model with shape keys: the same model without morph targets, weights and
+// animations (the neutral face that deformed copies and tables start from).
+FaceModel neutralFaceModel(FaceModel model);
+
 }  // namespace mpeg4face

@@ -1,0 +1,340 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// MPEG-4 faces with their Face Animation Tables: the shape-key naming grammar, tables from
+// shape keys, VRML and glTF files, animating a face with a FAP stream, Facial Motion Cloning
+// and FAP Interpolation Tables. MpegFace and FitTable wrap the core structs (their contents
+// are read through properties that copy); models go in and out as FaceModel mirrors.
+#include <pybind11/functional.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+#include <string>
+#include <utility>
+
+#include "bindings.hpp"
+#include "mpeg4face/clone.hpp"
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/fat.hpp"
+#include "mpeg4face/fat_evaluate.hpp"
+#include "mpeg4face/fat_generate.hpp"
+#include "mpeg4face/fat_gltf.hpp"
+#include "mpeg4face/fat_names.hpp"
+#include "mpeg4face/fit.hpp"
+#include "mpeg4face/fit_json.hpp"
+#include "mpeg4face/fit_presets.hpp"
+#include "mpeg4face/vrml.hpp"
+
+namespace mpeg4face::python {
+namespace {
+
+using namespace pybind11::literals;
+using Path = std::filesystem::path;
+
+py::array_t<double> pointsToNumpy(const Points3& p) {
+  py::array_t<double> out({static_cast<py::ssize_t>(p.rows()), py::ssize_t{3}});
+  std::copy(p.data(), p.data() + p.size(), out.mutable_data());  // both row-major
+  return out;
+}
+
+py::list stringList(const std::vector<std::string>& items) {
+  py::list out;
+  for (const std::string& s : items) out.append(toPy(s));
+  return out;
+}
+
+// One table's outline, for reports: which FAP, which meshes and how many vertices.
+py::dict tableSummary(const FaceDefTables& t) {
+  py::dict d;
+  d["fap"] = t.fapID;
+  d["select"] = t.fapID <= 2 ? t.highLevelSelect : 0;
+  py::list meshes;
+  for (const FaceDefMesh& m : t.faceDefMesh) {
+    meshes.append(py::dict("mesh"_a = m.mesh, "vertices"_a = m.coordIndex.size(),
+                           "interval_borders"_a = m.intervalBorders));
+  }
+  d["meshes"] = meshes;
+  py::list transforms;
+  for (const FaceDefTransform& x : t.faceDefTransform) transforms.append(x.transform);
+  d["transforms"] = transforms;
+  return d;
+}
+
+// A cloned copy as what Blender makes a shape key of: dense per-mesh displacements.
+py::dict clonedCopy(const CloneResult& result, std::size_t index) {
+  const ClonedCopy& c = result.copies[index];
+  py::dict d("name"_a = toPy(c.name), "fap"_a = c.fapID,
+             "select"_a = c.fapID <= 2 ? c.highLevelSelect : 0, "amplitude"_a = c.amplitude);
+  std::vector<Points3> dense;
+  for (const IndexedFaceSet& mesh : result.targetNeutral.meshes) {
+    dense.push_back(Points3::Zero(mesh.coord.rows(), 3));
+  }
+  for (const MeshDisplacement& m : c.meshes) {
+    for (std::size_t k = 0; k < m.vertices.size(); ++k) {
+      dense[static_cast<std::size_t>(m.mesh)].row(m.vertices[k]) =
+          m.displacement.row(static_cast<Eigen::Index>(k));
+    }
+  }
+  py::list meshes;
+  for (const Points3& p : dense) meshes.append(pointsToNumpy(p));
+  d["displacements"] = meshes;
+  return d;
+}
+
+// The source of a clone: a FaceModel with shape keys in the grammar, or an MpegFace.
+std::pair<FaceModel, std::vector<DeformedCopy>> cloneSource(py::handle source) {
+  if (py::isinstance<MpegFace>(source)) {
+    const MpegFace& face = source.cast<const MpegFace&>();
+    return {face.faceSceneGraph,
+            deformedCopiesFromFaceDefTables(face, measureFapu(face.faceSceneGraph))};
+  }
+  const FaceModel model = toCore(asFaceModel(source, "clone_face"));
+  return {neutralFaceModel(model), deformedCopiesFromShapeKeys(model).copies};
+}
+
+void bindNames(py::module_& m) {
+  m.def(
+      "parse_shape_key_name",
+      [](const std::string& name) -> py::object {
+        const std::optional<ShapeKeyName> key = parseShapeKeyName(name);
+        if (!key) return py::none();
+        return py::dict("fap"_a = key->fapID, "select"_a = key->highLevelSelect,
+                        "amplitude"_a = key->amplitude, "label"_a = toPy(key->label));
+      },
+      "name"_a,
+      "A shape-key name in the grammar (fap<N>[_<label>]@<value>, viseme<N>[_<label>], "
+      "expression<N>[_<label>][@<intensity>]; docs/fat.md) as a dict of fap (1 viseme, 2 "
+      "expression), select, amplitude and label; None for a name that is not ours; "
+      "mpeg4face.Error, with the grammar, for one that starts so but is malformed.");
+  m.def(
+      "format_shape_key_name",
+      [](int fap, int amplitude, int select, const std::string& label) {
+        return formatShapeKeyName({fap, select, amplitude, label});
+      },
+      "fap"_a, "amplitude"_a = 63, "select"_a = 0, "label"_a = "",
+      "The grammar's name of a FAP (3..68) at an amplitude, a viseme (fap 1, select 1..14) or "
+      "an expression (fap 2, select 1..6, amplitude its intensity).");
+}
+
+void bindMpegFace(py::module_& m) {
+  py::class_<MpegFace> cls(m, "MpegFace",
+                           "An animatable MPEG-4 face: its neutral scene graph (with feature "
+                           "points) and the FaceDefTables that animate it, and possibly a FAP "
+                           "Interpolation Table.");
+  cls.def_property_readonly(
+      "scene_graph", [](const MpegFace& f) { return fromCore(FaceModel(f.faceSceneGraph)); },
+      "The neutral face as a FaceModel (a copy).");
+  cls.def_property_readonly(
+      "tables",
+      [](const MpegFace& f) {
+        py::list out;
+        for (const FaceDefTables& t : f.faceDefTables) out.append(tableSummary(t));
+        return out;
+      },
+      "One dict per FaceDefTables: fap, select (viseme / expression), meshes (mesh, vertices, "
+      "interval_borders) and transforms.");
+  cls.def_property(
+      "fit", [](const MpegFace& f) { return f.fit; },
+      [](MpegFace& f, std::optional<FitTable> t) { f.fit = std::move(t); },
+      "The Face node's FAP Interpolation Table, or None.");
+  cls.def(
+      "validate", [](const MpegFace& f) { validateMpegFace(f); },
+      "Raises mpeg4face.Error naming the first broken table.");
+  cls.def("__repr__", [](const MpegFace& f) {
+    return "<MpegFace " + std::to_string(f.faceSceneGraph.meshes.size()) + " meshes, " +
+           std::to_string(f.faceDefTables.size()) + " tables>";
+  });
+
+  m.def(
+      "generate_face",
+      [](py::handle model, double threshold, std::optional<double> absoluteThreshold) {
+        const FaceModel core = toCore(asFaceModel(model, "generate_face"));
+        MpegFace face;
+        GeneratedTables tables;
+        ShapeKeyCopies keys;
+        {
+          py::gil_scoped_release release;
+          keys = deformedCopiesFromShapeKeys(core);
+          face.faceSceneGraph = neutralFaceModel(core);
+          tables = generateFaceDefTables(face.faceSceneGraph, measureFapu(face.faceSceneGraph),
+                                         keys.copies, {threshold, absoluteThreshold});
+          face.faceDefTables = std::move(tables.faceDefTables);
+        }
+        return py::dict("face"_a = std::move(face), "copies"_a = keys.copies.size(),
+                        "warnings"_a = stringList(tables.warnings),
+                        "ignored"_a = stringList(keys.ignored));
+      },
+      "model"_a, "threshold"_a = 0.01, "absolute_threshold"_a = py::none(),
+      "FaceDefTables from a model's morph targets named in the shape-key grammar "
+      "(parse_shape_key_name); the basis is the model's own positions. Returns a dict: face "
+      "(MpegFace), copies (how many shapes were used), warnings, ignored (morph target names "
+      "not in the grammar). threshold: FAPU a vertex must move to be in a table.");
+  m.def(
+      "read_vrml",
+      [](const Path& path) {
+        py::gil_scoped_release release;
+        return readVrml(path);
+      },
+      "path"_a, "Reads an MPEG-4 face (or a plain VRML97 scene) from a .wrl file.");
+  m.def(
+      "write_vrml",
+      [](const MpegFace& face, const Path& path) {
+        py::gil_scoped_release release;
+        writeVrml(face, path);
+      },
+      "face"_a, "path"_a, "Writes the face, its tables and FIT as VRML97 (docs/vrml.md).");
+  m.def(
+      "write_face_gltf",
+      [](const MpegFace& face, const Path& path, const std::vector<FapStream>& streams) {
+        py::gil_scoped_release release;
+        writeFatGltf(face, measureFapu(face.faceSceneGraph), streams, path);
+      },
+      "face"_a, "path"_a, "streams"_a = std::vector<FapStream>{},
+      "Writes the face as glTF with one morph target per table interval and the tables in "
+      "extras, each stream baked as an animation (docs/fat-gltf.md).");
+}
+
+// The tables compiled for the face's own FAPU, and the face's Transforms as flat arrays.
+struct PyFatEvaluator {
+  std::shared_ptr<const MpegFace> face;
+  FatEvaluator evaluator;
+  FatState state;
+};
+
+py::dict stateToPython(const FatState& state) {
+  py::list coord;
+  for (const Points3& p : state.coord) coord.append(pointsToNumpy(p));
+  const auto n = static_cast<py::ssize_t>(state.transforms.size());
+  py::array_t<double> translation({n, py::ssize_t{3}}), rotation({n, py::ssize_t{4}}),
+      scale({n, py::ssize_t{3}});
+  for (py::ssize_t i = 0; i < n; ++i) {
+    const Transform& t = state.transforms[static_cast<std::size_t>(i)];
+    for (int j = 0; j < 3; ++j) {
+      translation.mutable_at(i, j) = t.translation[j];
+      scale.mutable_at(i, j) = t.scale[j];
+    }
+    const Eigen::Quaterniond& q = t.rotation;
+    rotation.mutable_at(i, 0) = q.x(), rotation.mutable_at(i, 1) = q.y();
+    rotation.mutable_at(i, 2) = q.z(), rotation.mutable_at(i, 3) = q.w();
+  }
+  return py::dict("coord"_a = coord, "translation"_a = translation, "rotation"_a = rotation,
+                  "scale"_a = scale);
+}
+
+void bindEvaluator(py::module_& m) {
+  py::class_<PyFatEvaluator> cls(
+      m, "FatEvaluator",
+      "A face's tables compiled once (for the FAPU measured on its feature points) to animate "
+      "it with FAP frames.");
+  cls.def(py::init([](const MpegFace& face) {
+            auto shared = std::make_shared<const MpegFace>(face);
+            FatEvaluator evaluator(*shared, measureFapu(shared->faceSceneGraph));
+            FatState state = evaluator.neutralState();
+            return PyFatEvaluator{std::move(shared), std::move(evaluator), std::move(state)};
+          }),
+          "face"_a);
+  cls.def(
+      "evaluate",
+      [](PyFatEvaluator& self, const FapStream& stream, std::size_t index) {
+        if (index >= stream.frames.size()) {
+          throw py::index_error("frame index " + std::to_string(index) + " outside the stream's " +
+                                std::to_string(stream.frames.size()) + " frames");
+        }
+        FapState resolved;
+        for (std::size_t i = 0; i <= index; ++i) applyFrame(resolved, stream.frames[i]);
+        self.evaluator.evaluate(resolvedFrame(resolved), self.state);
+        return stateToPython(self.state);
+      },
+      "stream"_a, "index"_a,
+      "The face after frame `index` of the stream (0-based, values held and mirrored as a "
+      "decoder does): a dict of coord (a list of (N, 3) arrays, one per mesh, mesh-local), and "
+      "translation (T, 3), rotation (T, 4) quaternions x, y, z, w, and scale (T, 3) of every "
+      "Transform.");
+  cls.def(
+      "neutral",
+      [](const PyFatEvaluator& self) { return stateToPython(self.evaluator.neutralState()); },
+      "The neutral face, shaped as evaluate()'s result.");
+}
+
+void bindClone(py::module_& m) {
+  m.def(
+      "clone_feature_points",
+      [] {
+        py::list out;
+        for (std::string_view id : cloneFeaturePoints()) out.append(toPy(id));
+        return out;
+      },
+      "The feature points cloning needs (docs/clone.md), in table order.");
+  m.def(
+      "clone_face",
+      [](py::handle source, py::handle target, double filterSupport, bool adaptiveFilter,
+         bool rigidParts, std::function<void(std::string, double)> progress) {
+        auto [sourceNeutral, copies] = cloneSource(source);
+        const FaceModel targetNeutral = toCore(asFaceModel(target, "clone_face"));
+        CloneOptions options;
+        options.filterSupport = filterSupport;
+        options.adaptiveFilter = adaptiveFilter;
+        options.rigidParts = rigidParts;
+        if (progress) {
+          options.progress = [&progress](std::string_view stage, double fraction) {
+            py::gil_scoped_acquire acquire;
+            progress(std::string(stage), fraction);
+          };
+        }
+        CloneResult result;
+        MpegFace face;
+        {
+          py::gil_scoped_release release;
+          result = cloneDeformedCopies(sourceNeutral, copies, targetNeutral, options);
+          face.faceSceneGraph = result.targetNeutral;
+          face.faceDefTables =
+              generateFaceDefTables(face.faceSceneGraph, measureFapu(face.faceSceneGraph),
+                                    deformedCopies(result))
+                  .faceDefTables;
+        }
+        py::list cloned;
+        for (std::size_t i = 0; i < result.copies.size(); ++i) cloned.append(clonedCopy(result, i));
+        return py::dict("face"_a = std::move(face), "copies"_a = cloned,
+                        "warnings"_a = stringList(result.warnings));
+      },
+      "source"_a, "target"_a, "filter_support"_a = 0.02, "adaptive_filter"_a = true,
+      "rigid_parts"_a = true, "progress"_a = py::none(),
+      "Facial Motion Cloning (Pandzic 2003; docs/clone.md): every FAP, viseme and expression "
+      "shape of `source` (a FaceModel with shape keys in the grammar, or an MpegFace) onto the "
+      "neutral FaceModel `target`; both need the clone_feature_points(). Returns a dict: face "
+      "(the target as an MpegFace with its tables), copies (one dict per shape: name, fap, "
+      "select, amplitude, displacements: one (N, 3) array per target mesh) and warnings. "
+      "progress(stage, fraction) is called as it goes.");
+}
+
+void bindFit(py::module_& m) {
+  py::class_<FitTable> cls(m, "FitTable",
+                           "A FAP Interpolation Table (Tao et al.): FAP sets as nodes, links "
+                           "with rational polynomials (docs/fit.md).");
+  cls.def_property_readonly("nodes", [](const FitTable& t) { return t.nodes; });
+  cls.def_property_readonly("link_count", [](const FitTable& t) { return t.links.size(); });
+  cls.def("problems", &fitProblems, "What is wrong with the table, in words (empty if valid).");
+  cls.def(
+      "interpolate",
+      [](const FitTable& t, FapStream stream) {
+        interpolateFitStream(t, stream);
+        return stream;
+      },
+      "stream"_a, "A copy of the stream with the FAPs the table derives filled in.");
+  cls.def("to_json", [](const FitTable& t) { return fitTableToJson(t); });
+  cls.def("__eq__", [](const FitTable& a, const FitTable& b) { return a == b; });
+  m.def("read_fit_json", &readFitJson, "path"_a, "A table from its JSON form.");
+  m.def("fit_table_from_json", &fitTableFromJson, "text"_a, "source"_a = "FIT JSON");
+  m.def("fit_preset", &fitPreset, "name"_a,
+        "A preset table: left-right, inner-outer-lip, eyebrow or expression.");
+}
+
+}  // namespace
+
+void bindFace(py::module_& m) {
+  bindNames(m);
+  bindFit(m);
+  bindMpegFace(m);
+  bindEvaluator(m);
+  bindClone(m);
+}
+
+}  // namespace mpeg4face::python
