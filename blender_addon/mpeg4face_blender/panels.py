@@ -70,7 +70,7 @@ class MPEG4FACE_PT_feature_points(_Sidebar, bpy.types.Panel):
         )
         layout.label(text="F: needed for FAPU, C: needed for cloning")
         for title, needed in (("FAPU", fp_logic.fapu_points()),
-                              ("cloning", fp_logic.CLONING_FEATURE_POINTS)):
+                              ("cloning", fp_logic.cloning_points())):
             absent = fp_logic.missing(state.rows, needed)
             text = f"missing for {title}: {', '.join(absent)}" if absent else f"complete for {title}"
             layout.label(text=text, icon="ERROR" if absent else "CHECKMARK")

@@ -37,7 +37,7 @@ def test_enable_registers_everything():
     assert len(items) == 85
     assert (items[0].fp_id, items[0].name) == ("2.1", "2.1 Bottom of the chin")
     assert {i.fp_id for i in items if i.needed_for_fapu} == fp_logic.fapu_points()
-    assert {i.fp_id for i in items if i.needed_for_cloning} == fp_logic.CLONING_FEATURE_POINTS
+    assert {i.fp_id for i in items if i.needed_for_cloning} == fp_logic.cloning_points()
 
 
 def test_register_unregister_twice(addon_disabled):
