@@ -4,14 +4,11 @@
 - The user add-on folder: scripts/addons in 3.x and 4.x. Blender 4.2's extensions live in
   another folder and need a blender_manifest.toml; this add-on installs as a legacy add-on,
   which 4.2 and later still load from scripts/addons.
-- Context overrides for operator calls: Blender 4.0 dropped the dict argument of bpy.ops
-  calls; Context.temp_override (3.2 and later) works in both.
+
+Nothing else the add-on uses differs between 3.4 and 4.x so far; new differences go here.
 """
 
 from __future__ import annotations
-
-from contextlib import AbstractContextManager
-from typing import Any
 
 import bpy
 
@@ -20,7 +17,3 @@ def user_addon_dir() -> str:
     """Blender's user add-on folder (BLENDER_USER_SCRIPTS moves it)."""
     return bpy.utils.user_resource("SCRIPTS", path="addons", create=True)
 
-
-def context_override(context: bpy.types.Context, **members: Any) -> AbstractContextManager:
-    """A context with the given members replaced, for calling operators from scripts."""
-    return context.temp_override(**members)

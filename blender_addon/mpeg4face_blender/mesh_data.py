@@ -21,7 +21,7 @@ def face_bmesh(obj: bpy.types.Object, write: bool = False) -> Iterator[bmesh.typ
     mesh = obj.data
     if obj.mode == "EDIT":
         bm = bmesh.from_edit_mesh(mesh)
-        bm.verts.ensure_lookup_table()
+        _index(bm)
         yield bm
         if write:
             bmesh.update_edit_mesh(mesh)
@@ -29,13 +29,19 @@ def face_bmesh(obj: bpy.types.Object, write: bool = False) -> Iterator[bmesh.typ
     bm = bmesh.new()
     try:
         bm.from_mesh(mesh)
-        bm.verts.ensure_lookup_table()
+        _index(bm)
         yield bm
         if write:
             bm.to_mesh(mesh)
             mesh.update()
     finally:
         bm.free()
+
+
+def _index(bm: bmesh.types.BMesh) -> None:
+    # Edits in Edit Mode can leave vertex indices stale; vertex groups use the mesh's order.
+    bm.verts.index_update()
+    bm.verts.ensure_lookup_table()
 
 
 def standard_coords(bm: bmesh.types.BMesh) -> np.ndarray:
@@ -85,7 +91,6 @@ def set_feature_point(obj: bpy.types.Object, bm: bmesh.types.BMesh, fp: str, ver
 
 def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.FaceState:
     with face_bmesh(obj) as bm:
-        bm.verts.index_update()
         return fp_logic.face_state(
             standard_coords(bm), coord_index(bm), fp_groups(obj, bm), constraint_tolerance
         )

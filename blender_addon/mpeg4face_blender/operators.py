@@ -2,8 +2,6 @@
 """Operators: assign a feature point to the selected vertex, mirror feature points across
 X = 0. Each one checks its input and reports problems in the UI instead of raising."""
 
-from __future__ import annotations
-
 import bpy
 from bpy.props import EnumProperty, FloatProperty
 

@@ -2,8 +2,6 @@
 """The add-on preferences: the native module's status (why it is missing and how to fix it)
 and settings of the panel."""
 
-from __future__ import annotations
-
 import textwrap
 
 import bpy

@@ -3,8 +3,6 @@
 table, kept on the window manager (a UIList needs a collection property; nothing is saved
 in .blend files). The status of each point is read live from the mesh, not stored."""
 
-from __future__ import annotations
-
 import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, CollectionProperty, IntProperty, StringProperty

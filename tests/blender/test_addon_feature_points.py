@@ -164,7 +164,7 @@ def test_panels_draw_the_state(candide_head):
             None, bpy.context, layout, wm, item, 0, wm, "mpeg4face_feature_point_index", index)
         return layout.log
 
-    assert row("9.15") == [(f"9.15 Bottom middle edge of nose", "CHECKMARK"),
+    assert row("9.15") == [("9.15 Bottom middle edge of nose", "CHECKMARK"),
                            (f"vertex {fp_vertices['9.15']}", "NONE"), ("F", "NONE"), ("C", "NONE")]
     assert row("3.5") == [("3.5 Center of the pupil of left eye", "X"), ("missing", "NONE"),
                           ("F", "NONE"), ("", "NONE")]

@@ -4,6 +4,7 @@ FAPU read-out and the mirror helper, on CANDIDE-3."""
 
 import re
 import shutil
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -56,8 +57,8 @@ def test_native_module_built_for_another_python(tmp_path):
     status = native.load(lib_dir=tmp_path, name="mpeg4face_other")
     assert not status.ok
     assert "ImportError" in status.error and "_core.cpython-39" in status.error
-    assert str(tmp_path) in __import__("sys").path  # lib/ comes first when it has the package
-    __import__("sys").path.remove(str(tmp_path))
+    assert sys.path[0] == str(tmp_path)  # lib/ comes first when it has the package
+    sys.path.remove(str(tmp_path))
 
 
 def test_group_names():
