@@ -14,6 +14,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 TESTS = os.path.dirname(HERE)
+ADDONS = os.path.join(os.path.dirname(TESTS), "blender_addon")  # mpeg4face_blender
 
 
 def main() -> int:
@@ -22,7 +23,7 @@ def main() -> int:
         print("run_in_blender.py: set MPEG4FACE_PYTHONPATH to the build's python folder",
               file=sys.stderr)
         return 2
-    for path in (os.path.abspath(build), TESTS):
+    for path in (os.path.abspath(build), TESTS, ADDONS):
         if path not in sys.path:
             sys.path.insert(0, path)
     # Debian's Blender normally has the system site-packages (numpy, pytest) on sys.path;

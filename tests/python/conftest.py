@@ -4,11 +4,14 @@
 Run with: PYTHONPATH=build/python /usr/bin/python3 -m pytest tests/python
 """
 
+import sys
 from pathlib import Path
 
 import pytest
 
 TESTS_DIR = Path(__file__).resolve().parent.parent
+# The Blender add-on's bpy-free modules (mpeg4face_blender.fp_logic, .native).
+sys.path.insert(0, str(TESTS_DIR.parent / "blender_addon"))
 
 
 @pytest.fixture(scope="session")

@@ -1,0 +1,96 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Reading and writing a mesh object's vertices and FP_ vertex groups through bmesh, the
+same way in Object and Edit Mode (in Edit Mode the mesh datablock is stale)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import bmesh
+import bpy
+import numpy as np
+
+from . import fp_logic
+
+
+@contextmanager
+def face_bmesh(obj: bpy.types.Object, write: bool = False) -> Iterator[bmesh.types.BMesh]:
+    """The object's bmesh: the edit-mode one, or a copy of the mesh written back on exit
+    when write is set."""
+    mesh = obj.data
+    if obj.mode == "EDIT":
+        bm = bmesh.from_edit_mesh(mesh)
+        _index(bm)
+        yield bm
+        if write:
+            bmesh.update_edit_mesh(mesh)
+        return
+    bm = bmesh.new()
+    try:
+        bm.from_mesh(mesh)
+        _index(bm)
+        yield bm
+        if write:
+            bm.to_mesh(mesh)
+            mesh.update()
+    finally:
+        bm.free()
+
+
+def _index(bm: bmesh.types.BMesh) -> None:
+    # Edits in Edit Mode can leave vertex indices stale; vertex groups use the mesh's order.
+    bm.verts.index_update()
+    bm.verts.ensure_lookup_table()
+
+
+def standard_coords(bm: bmesh.types.BMesh) -> np.ndarray:
+    """Vertex positions in the standard's axes (object space, Y up)."""
+    return fp_logic.to_standard_axes([v.co[:] for v in bm.verts])
+
+
+def coord_index(bm: bmesh.types.BMesh) -> list[int]:
+    """Faces as an IndexedFaceSet coordIndex: vertex numbers, -1 after each face."""
+    out: list[int] = []
+    for face in bm.faces:
+        out.extend(v.index for v in face.verts)
+        out.append(-1)
+    return out
+
+
+def fp_groups(obj: bpy.types.Object, bm: bmesh.types.BMesh) -> dict[str, list[tuple[int, float]]]:
+    """FP_ vertex group name -> its (vertex, weight) members."""
+    by_index = {g.index: g.name for g in obj.vertex_groups if fp_logic.feature_point_of_group(g.name)}
+    groups: dict[str, list[tuple[int, float]]] = {name: [] for name in by_index.values()}
+    layer = bm.verts.layers.deform.active
+    if layer is None or not by_index:
+        return groups
+    for v in bm.verts:
+        for index, weight in v[layer].items():
+            name = by_index.get(index)
+            if name is not None:
+                groups[name].append((v.index, weight))
+    return groups
+
+
+def selected_vertices(bm: bmesh.types.BMesh) -> list[int]:
+    return [v.index for v in bm.verts if v.select]
+
+
+def set_feature_point(obj: bpy.types.Object, bm: bmesh.types.BMesh, fp: str, vertex: int) -> None:
+    """Makes FP_<fp> hold exactly `vertex`, with weight 1 (moving it if it was elsewhere)."""
+    name = fp_logic.group_name(fp)
+    group = obj.vertex_groups.get(name) or obj.vertex_groups.new(name=name)
+    layer = bm.verts.layers.deform.verify()
+    for v in bm.verts:
+        weights = v[layer]
+        if group.index in weights:
+            del weights[group.index]
+    bm.verts[vertex][layer][group.index] = 1.0
+
+
+def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.FaceState:
+    with face_bmesh(obj) as bm:
+        return fp_logic.face_state(
+            standard_coords(bm), coord_index(bm), fp_groups(obj, bm), constraint_tolerance
+        )

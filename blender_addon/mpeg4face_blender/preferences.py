@@ -1,0 +1,47 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The add-on preferences: the native module's status (why it is missing and how to fix it)
+and settings of the panel."""
+
+import textwrap
+
+import bpy
+from bpy.props import FloatProperty
+
+from . import native
+
+# Set by register() in __init__.py before this module registers.
+status = native.NativeStatus(None, "not loaded yet")
+
+
+class MPEG4FACE_AP_preferences(bpy.types.AddonPreferences):
+    bl_idname = __package__
+
+    constraint_tolerance: FloatProperty(
+        name="Location tolerance",
+        description="Table 6 location warnings for feature points off their constraint by "
+        "more than this fraction of ES0",
+        default=0.02,
+        min=0.0,
+        max=1.0,
+        subtype="FACTOR",
+    )
+
+    def draw(self, context: bpy.types.Context) -> None:
+        layout = self.layout
+        lines = native.problem(status)
+        if not lines:
+            layout.label(text=native.description(status), icon="CHECKMARK")
+            layout.prop(self, "constraint_tolerance")
+            return
+        box = layout.box()
+        box.alert = True
+        for i, line in enumerate(lines):
+            for j, part in enumerate(textwrap.wrap(line, 90) or [""]):
+                box.label(text=part, icon="ERROR" if i == 0 and j == 0 else "BLANK1")
+
+
+def preferences(context: bpy.types.Context) -> MPEG4FACE_AP_preferences:
+    return context.preferences.addons[__package__].preferences
+
+
+register, unregister = bpy.utils.register_classes_factory((MPEG4FACE_AP_preferences,))

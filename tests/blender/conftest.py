@@ -1,0 +1,69 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Enables the add-on (blender_addon/ is on sys.path, see run_in_blender.py) before any test
+module imports it, so addon_utils owns the module, and builds the CANDIDE-3 head."""
+
+from pathlib import Path
+
+import pytest
+
+try:
+    import addon_utils
+    import bpy
+except ImportError:  # plain Python: the tests skip themselves
+    bpy = None
+
+ADDON = "mpeg4face_blender"
+DATA = Path(__file__).resolve().parent.parent / "data"
+
+if bpy is not None:
+    addon_utils.enable(ADDON, default_set=True)
+
+
+@pytest.fixture
+def addon_disabled():
+    """The add-on disabled for the test, enabled again afterwards."""
+    addon_utils.disable(ADDON, default_set=True)
+    yield
+    addon_utils.enable(ADDON, default_set=True)
+
+
+def standard_to_blender(coords):
+    """The standard's Y-up coordinates as Blender's Z-up ones: (x, y, z) -> (x, -z, y)."""
+    return [(x, -z, y) for x, y, z in coords]
+
+
+@pytest.fixture
+def candide_head():
+    """CANDIDE-3 as the active Blender mesh object in Object Mode, its feature points from
+    feature_points.csv as FP_ vertex groups: (object, FaceModel, feature point -> vertex)."""
+    import mpeg4face
+
+    model = mpeg4face.read_model(DATA / "candide3" / "candide3.wfm")
+    points, _ = mpeg4face.read_feature_point_csv(DATA / "candide3" / "feature_points.csv", model)
+    model.feature_points = points
+    mesh = model.meshes[0]
+    data = bpy.data.meshes.new("candide3")
+    data.from_pydata(standard_to_blender(mesh.coord.tolist()), [], mesh.triangles().tolist())
+    obj = bpy.data.objects.new("candide3", data)
+    bpy.context.scene.collection.objects.link(obj)
+    fp_vertices = {fp: b.vertex for fp, b in points.items()}
+    for fp, vertex in fp_vertices.items():
+        obj.vertex_groups.new(name=f"FP_{fp}").add([vertex], 1.0, "REPLACE")
+    bpy.context.view_layer.objects.active = obj
+    obj.select_set(True)
+    yield obj, model, fp_vertices
+    if obj.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+    bpy.data.objects.remove(obj)
+    bpy.data.meshes.remove(data)
+
+
+def group_members(obj, name):
+    """(vertex, weight) of a vertex group, read in Object Mode."""
+    if obj.mode != "OBJECT":
+        bpy.ops.object.mode_set(mode="OBJECT")
+    group = obj.vertex_groups.get(name)
+    if group is None:
+        return None
+    return [(v.index, g.weight) for v in obj.data.vertices for g in v.groups
+            if g.group == group.index]
