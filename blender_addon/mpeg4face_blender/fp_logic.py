@@ -21,14 +21,6 @@ import mpeg4face
 GROUP_PREFIX = "FP_"
 FAPU_DISTANCES = ("ES0", "IRISD0", "ENS0", "MNS0", "MW0")
 
-# The points the cloner needs (cloneFeaturePoints() in core/src/clone_feature_points.cpp,
-# listed in docs/clone.md), for modules that do not have clone_feature_points() yet.
-_CLONING_FEATURE_POINTS = frozenset(
-    "2.1 2.2 2.3 2.4 2.5 2.6 2.7 2.8 2.9 2.10 2.11 2.12 2.13 2.14 "
-    "3.1 3.2 3.3 3.4 3.7 3.8 3.11 3.12 4.1 4.2 4.3 4.4 4.5 4.6 5.3 5.4 "
-    "8.1 8.2 8.3 8.4 9.1 9.2 9.3 9.12 9.15 10.9 10.10 11.2 11.3".split()
-)
-
 Array = npt.NDArray[np.float64]
 
 
@@ -51,9 +43,8 @@ def to_standard_axes(coords: npt.ArrayLike) -> Array:
 
 @cache
 def cloning_points() -> frozenset[str]:
-    """The feature points cloning needs: the core's list when the module has it."""
-    from_core = getattr(mpeg4face, "clone_feature_points", None)
-    return frozenset(from_core()) if from_core else _CLONING_FEATURE_POINTS
+    """The feature points cloning needs (the core's list, docs/clone.md)."""
+    return frozenset(mpeg4face.clone_feature_points())
 
 
 @cache

@@ -86,7 +86,6 @@ def test_cloning_points_match_docs_clone_md():
     documented = {p.strip() for row in table for p in row.split(",")}
     assert len(documented) == 43
     assert fp_logic.cloning_points() == documented
-    assert fp_logic._CLONING_FEATURE_POINTS == documented  # for modules without the list
 
 
 def test_mirror_partners():
