@@ -167,20 +167,12 @@ void bindMpegFace(py::module_& m) {
       "(parse_shape_key_name); the basis is the model's own positions. Returns a dict: face "
       "(MpegFace), copies (how many shapes were used), warnings, ignored (morph target names "
       "not in the grammar). threshold: FAPU a vertex must move to be in a table.");
-  m.def(
-      "read_vrml",
-      [](const Path& path) {
-        py::gil_scoped_release release;
-        return readVrml(path);
-      },
-      "path"_a, "Reads an MPEG-4 face (or a plain VRML97 scene) from a .wrl file.");
-  m.def(
-      "write_vrml",
-      [](const MpegFace& face, const Path& path) {
-        py::gil_scoped_release release;
-        writeVrml(face, path);
-      },
-      "face"_a, "path"_a, "Writes the face, its tables and FIT as VRML97 (docs/vrml.md).");
+  m.def("read_vrml", &readVrml, "path"_a,
+        "Reads an MPEG-4 face (or a plain VRML97 scene) from a .wrl file.",
+        py::call_guard<py::gil_scoped_release>());
+  m.def("write_vrml", &writeVrml, "face"_a, "path"_a,
+        "Writes the face, its tables and FIT as VRML97 (docs/vrml.md).",
+        py::call_guard<py::gil_scoped_release>());
   m.def(
       "write_face_gltf",
       [](const MpegFace& face, const Path& path, const std::vector<FapStream>& streams) {

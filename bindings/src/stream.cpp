@@ -298,20 +298,12 @@ void bindCodec(py::module_& m) {
 }
 
 void bindFiles(py::module_& m) {
+  m.def("read_fap", &readFapFile, "path"_a, "Reads a .fap file (versions 2.0 to 2.2).",
+        py::call_guard<py::gil_scoped_release>());
   m.def(
-      "read_fap",
-      [](const Path& path) {
-        py::gil_scoped_release release;
-        return readFapFile(path);
-      },
-      "path"_a, "Reads a .fap file (versions 2.0 to 2.2).");
-  m.def(
-      "write_fap",
-      [](const FapStream& stream, const Path& path) {
-        py::gil_scoped_release release;
-        writeFapFile(path, stream);
-      },
-      "stream"_a, "path"_a, "Writes a .fap file (through a temporary file: all or nothing).");
+      "write_fap", [](const FapStream& stream, const Path& path) { writeFapFile(path, stream); },
+      "stream"_a, "path"_a, "Writes a .fap file (through a temporary file: all or nothing).",
+      py::call_guard<py::gil_scoped_release>());
   m.def(
       "read_fap_stream",
       [](const Path& path) {
