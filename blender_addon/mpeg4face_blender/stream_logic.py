@@ -230,3 +230,15 @@ def live_index(frame_numbers: npt.ArrayLike, frame_rate: float, seconds: float) 
     the first before the stream starts."""
     times = sample_times(frame_numbers, frame_rate)
     return int(max(0, np.searchsorted(times, seconds + 1e-9, side="right") - 1))
+
+
+def encoding_summary(bits: int, bits_per_second: float, psnr: float | None) -> str:
+    """"20752 bits, 4803.7 bit/s, PSNR 47.75 dB" (lossless: PSNR infinite; none when there
+    was nothing to compare)."""
+    if psnr is None or math.isnan(psnr):
+        quality = "no PSNR"
+    elif math.isinf(psnr):
+        quality = "lossless"
+    else:
+        quality = f"PSNR {psnr:.2f} dB"
+    return f"{bits} bits, {bits_per_second:.1f} bit/s, {quality}"

@@ -147,3 +147,10 @@ def test_bake_resamples_to_the_scene_rate(data_dir):
 def test_bake_of_an_empty_stream_is_refused():
     with pytest.raises(ValueError, match="no frames"):
         sl.bake(mpeg4face.FapStream(), sl.face_keys(["fap3@512"]), 25.0)
+
+
+def test_encoding_summary():
+    assert sl.encoding_summary(9128, 2112.96, 47.752) == "9128 bits, 2113.0 bit/s, PSNR 47.75 dB"
+    assert sl.encoding_summary(20752, 4803.7, float("inf")).endswith("lossless")
+    assert sl.encoding_summary(0, 0.0, None).endswith("no PSNR")
+    assert sl.encoding_summary(0, 0.0, float("nan")).endswith("no PSNR")
