@@ -295,10 +295,10 @@ def run_live(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.types.
 # --- Encoding ----------------------------------------------------------------------------
 
 ENCODING_MODES = (
-    ("predictive", "Predictive", "Arithmetic-coded frame differences (the standard's FBA "
-     "predictive coding)"),
-    ("dct", "DCT", "Segments of 16 frames DCT-coded per FAP"),
-    ("pca", "PCA", "Frames projected on a basis of the stream's principal components"),
+    ("predictive", "Predictive", "The standard's predictive coding: arithmetic-coded "
+     "differences from the previous frame"),
+    ("dct", "DCT", "A DCT of 16 consecutive values of each FAP (docs/dct-mode.md)"),
+    ("pca", "PCA", "A KLT per FAP group (docs/pca-mode.md)"),
 )
 
 

@@ -284,3 +284,32 @@ def test_panel_shows_the_stream_and_the_encoding(head, tmp_path):
     assert "joy.fap" in log and "108 frames from frame 1" in log
     assert "[Start Live Preview]" in log and "pca: joy.fba" in log
     assert any(line.endswith("dB") and "bit/s" in line for line in log)
+
+
+def test_registered_with_a_menu_entry():
+    from mpeg4face_blender import import_stream
+
+    for name in ("MPEG4FACE_OT_import_fap_stream", "MPEG4FACE_OT_encode_fap_stream",
+                 "MPEG4FACE_OT_speak_text", "MPEG4FACE_OT_live_preview",
+                 "MPEG4FACE_PT_fap_stream"):
+        assert hasattr(bpy.types, name), name
+    assert import_stream.menu_entry in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
+
+
+def test_disabling_the_addon_stops_the_live_preview(head, addon_disabled_after):
+    bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
+    addon_disabled_after()
+    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_post
+    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert not head.show_only_shape_key
+
+
+@pytest.fixture
+def addon_disabled_after():
+    """A function that disables the add-on; it is enabled again after the test."""
+    import addon_utils
+
+    from conftest import ADDON
+
+    yield lambda: addon_utils.disable(ADDON, default_set=True)
+    addon_utils.enable(ADDON, default_set=True)
