@@ -6,7 +6,7 @@ import bpy
 from bpy.props import EnumProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
-from . import operators_stream
+from . import operators_stream, stream_logic
 
 
 class MPEG4FACE_OT_import_fap_stream(bpy.types.Operator, ImportHelper):
@@ -68,12 +68,13 @@ class MPEG4FACE_OT_import_fap_stream(bpy.types.Operator, ImportHelper):
         operators_stream.stop_live(obj)
         if self.preview == "LIVE":
             result = operators_stream.run_live(self, context, obj, keys, stream, self.start_frame)
-            frames = scene.frame_end - scene.frame_start + 1
         else:
-            baked = operators_stream.bake_stream(self, context, obj, keys, stream,
-                                                 self.start_frame, self.resample)
-            result, frames = {"FINISHED"}, baked.frames
+            operators_stream.bake_stream(self, context, obj, keys, stream, self.start_frame,
+                                         self.resample)
+            result = {"FINISHED"}
         if result == {"FINISHED"}:
+            frames = stream_logic.scene_frame_count(stream.duration,
+                                                    operators_stream.scene_rate(scene))
             operators_stream.remember_stream(obj, self.filepath, self.fit_path,
                                              self.start_frame, frames)
         return result

@@ -150,10 +150,6 @@ class Bake:
     baked_faps: list[int]  # FAPs of the stream with a key (1: visemes, 2: expressions)
     missing: list[str]  # what the stream sends that no key shows
 
-    def value_range(self) -> tuple[float, float]:
-        values = np.concatenate([c for c in self.curves.values()] or [np.zeros(1)])
-        return float(values.min()), float(values.max())
-
 
 def bake(stream: mpeg4face.FapStream, keys: FaceKeys, fps: float, method: str = "HOLD") -> Bake:
     """Key values at the scene frames (k / fps seconds) from the stream's resolved values
