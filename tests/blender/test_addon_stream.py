@@ -211,7 +211,8 @@ def test_speak(head, tmp_path):
 
 def test_speak_without_flite_is_reported(head, tmp_path, monkeypatch):
     monkeypatch.setenv("PATH", str(tmp_path))  # no flite on it
-    with pytest.raises(RuntimeError, match=r"Cannot speak: .*cannot run 'flite' \(No such file or directory\): install"):
+    message = r"Cannot speak: .*cannot run 'flite' \(No such file or directory\): install"
+    with pytest.raises(RuntimeError, match=message):
         bpy.ops.mpeg4face.speak_text(text="Hello", folder=str(tmp_path))
     assert not head.mpeg4face_stream.filepath
     assert not list(tmp_path.glob("*.wav"))
