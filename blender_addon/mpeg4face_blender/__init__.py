@@ -36,9 +36,12 @@ def register() -> None:
     try:
         preferences.register()
         if status.ok:
-            from . import operators, panels, properties
+            from . import (
+                import_stream, operators, operators_stream, panels, panels_stream, properties,
+            )
 
-            for module in (properties, operators, panels):
+            for module in (properties, operators, panels, operators_stream, import_stream,
+                           panels_stream):
                 module.register()
                 _registered.append(module)
     except Exception as error:  # noqa: BLE001 - e.g. a module too old for this add-on

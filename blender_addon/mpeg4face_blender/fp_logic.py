@@ -41,6 +41,12 @@ def to_standard_axes(coords: npt.ArrayLike) -> Array:
     return np.column_stack((c[:, 0], c[:, 2], -c[:, 1]))
 
 
+def to_blender_axes(coords: npt.ArrayLike) -> Array:
+    """The inverse of to_standard_axes: (x, y, z) -> (x, -z, y)."""
+    c = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
+    return np.column_stack((c[:, 0], -c[:, 2], c[:, 1]))
+
+
 @cache
 def cloning_points() -> frozenset[str]:
     """The feature points cloning needs (the core's list, docs/clone.md)."""
@@ -160,10 +166,17 @@ def fp_vertices_from_groups(
 
 
 def face_model(
-    coords: npt.ArrayLike, coord_index: npt.ArrayLike, fp_vertices: Mapping[str, int]
+    coords: npt.ArrayLike,
+    coord_index: npt.ArrayLike,
+    fp_vertices: Mapping[str, int],
+    morph_targets: Mapping[str, npt.ArrayLike] | None = None,
 ) -> mpeg4face.FaceModel:
-    """A one-mesh FaceModel (standard axes) with the feature points bound to its vertices."""
+    """A one-mesh FaceModel (standard axes) with the feature points bound to its vertices
+    and the given morph targets (name -> (N, 3) displacements), e.g. shape keys for
+    generate_face."""
     mesh = mpeg4face.IndexedFaceSet("mesh", coords, coord_index)
+    if morph_targets:
+        mesh.morph_targets = [mpeg4face.MorphTarget(n, d) for n, d in morph_targets.items()]
     bindings = {fp: mpeg4face.FeaturePointBinding(0, v) for fp, v in fp_vertices.items()}
     return mpeg4face.FaceModel(meshes=[mesh], feature_points=bindings)
 

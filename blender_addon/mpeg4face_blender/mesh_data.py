@@ -4,11 +4,12 @@ same way in Object and Edit Mode (in Edit Mode the mesh datablock is stale)."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 
 import bmesh
 import bpy
+import mpeg4face
 import numpy as np
 
 from . import fp_logic
@@ -87,6 +88,34 @@ def set_feature_point(obj: bpy.types.Object, bm: bmesh.types.BMesh, fp: str, ver
         if group.index in weights:
             del weights[group.index]
     bm.verts[vertex][layer][group.index] = 1.0
+
+
+def shape_key_coords(block: bpy.types.ShapeKey) -> np.ndarray:
+    """A shape key's vertex positions (N, 3), Blender's axes."""
+    co = np.empty(len(block.data) * 3, dtype=np.float32)
+    block.data.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def set_shape_key_coords(block: bpy.types.ShapeKey, coords: np.ndarray) -> None:
+    block.data.foreach_set("co", np.asarray(coords, dtype=np.float32).ravel())
+
+
+def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()) -> mpeg4face.FaceModel:
+    """The mesh as a FaceModel (standard axes) with its feature points and the named shape
+    keys as morph targets (displacements from the reference key), for generate_face. Shape
+    keys are read from the mesh datablock, so the object should be in Object Mode."""
+    with face_bmesh(obj) as bm:
+        coords = standard_coords(bm)
+        fp_vertices, _ = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
+        faces = coord_index(bm)
+    targets = {}
+    key = obj.data.shape_keys
+    if key is not None:
+        reference = shape_key_coords(key.reference_key)
+        targets = {name: fp_logic.to_standard_axes(shape_key_coords(key.key_blocks[name]) - reference)
+                   for name in shape_keys}
+    return fp_logic.face_model(coords, faces, fp_vertices, targets)
 
 
 def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.FaceState:

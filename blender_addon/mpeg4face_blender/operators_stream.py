@@ -1,0 +1,461 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""FAP streams on a head mesh: baking a stream into shape-key animation, the live preview
+(the face's tables evaluated by the core on each frame change), encoding the imported
+stream, and speaking text onto the face. The import operator (import_stream.py) and the
+speech operator bake through bake_stream(). Every operator checks its input and reports
+problems in the UI instead of raising."""
+
+import hashlib
+import math
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import bpy
+import numpy as np
+from bpy.app.handlers import persistent
+from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
+from bpy_extras.io_utils import ExportHelper
+
+import mpeg4face
+
+from . import fp_logic, mesh_data, operators, stream_logic
+
+LIVE_KEY = "MPEG-4 live"  # the shape key the live preview writes; not in the grammar
+ACTION_GROUP = "MPEG-4 FAP stream"
+SPEECH_STRIP = "MPEG-4 speech"
+# What the core may raise for a bad file or face, shown as a report instead of a traceback.
+INPUT_ERRORS = (mpeg4face.Error, OSError, ValueError, RuntimeError)
+RESAMPLE_ITEMS = (
+    ("HOLD", "Sample and hold", "Each scene frame shows the last stream frame at or before "
+     "its time, as a decoder holds a FAP until it is sent again"),
+    ("LINEAR", "Linear", "FAP values interpolated linearly between the stream frames around "
+     "each scene frame's time (viseme and expression weights cross-fade)"),
+)
+
+
+class MPEG4FACE_PG_stream(bpy.types.PropertyGroup):
+    """The stream last imported or spoken onto an object (saved with the .blend) and the
+    last encoding of it."""
+
+    filepath: StringProperty(name="Stream", subtype="FILE_PATH")
+    fit_path: StringProperty(name="FIT", subtype="FILE_PATH")
+    start_frame: IntProperty(name="Start frame", default=1)
+    frames: IntProperty(name="Frames")
+    encoded_path: StringProperty(name="Encoded", subtype="FILE_PATH")
+    encoded_mode: StringProperty(name="Mode")
+    bits: IntProperty(name="Bits")
+    bits_per_second: FloatProperty(name="Bit rate")
+    psnr: FloatProperty(name="PSNR", default=math.nan)  # inf: lossless, nan: none
+
+
+def stream_mesh(op: bpy.types.Operator, context: bpy.types.Context
+                ) -> tuple[bpy.types.Object, stream_logic.FaceKeys] | None:
+    """The active mesh and its shape keys named by the grammar; None (reported) when there
+    is no such mesh or it has no such key."""
+    obj = operators.active_mesh(op, context)
+    if obj is None:
+        return None
+    if obj.mode != "OBJECT":
+        op.report({"ERROR"}, "Switch to Object Mode (shape keys are read from the mesh)")
+        return None
+    blocks = obj.data.shape_keys.key_blocks if obj.data.shape_keys else ()
+    keys = stream_logic.face_keys(b.name for b in blocks)
+    for problem in keys.malformed:
+        op.report({"WARNING"}, f"Shape key {problem}")
+    if not keys.keys:
+        op.report({"ERROR"}, f"{obj.name} has no shape keys named fap<N>[_<label>]@<value>, "
+                  "viseme<N> or expression<N>[@<intensity>] (see docs/fat.md)")
+        return None
+    return obj, keys
+
+
+def read_stream(op: bpy.types.Operator, path: str, fit_path: str = ""
+                ) -> mpeg4face.FapStream | None:
+    """The stream of a .fap / .fba file, through the FIT when one is given; None (reported)
+    when a file is unreadable."""
+    try:
+        stream = mpeg4face.read_fap_stream(bpy.path.abspath(path))
+        if fit_path:
+            stream = mpeg4face.read_fit_json(bpy.path.abspath(fit_path)).interpolate(stream)
+    except INPUT_ERRORS as error:
+        op.report({"ERROR"}, f"Cannot read the stream: {error}")
+        return None
+    if len(stream) == 0:
+        op.report({"ERROR"}, f"{path} holds no frames")
+        return None
+    return stream
+
+
+def scene_rate(scene: bpy.types.Scene) -> float:
+    return scene.render.fps / scene.render.fps_base
+
+
+def set_scene_rate(scene: bpy.types.Scene, frame_rate: float) -> None:
+    scene.render.fps, scene.render.fps_base = stream_logic.scene_fps(frame_rate)
+
+
+_LINEAR = bpy.types.Keyframe.bl_rna.properties["interpolation"].enum_items["LINEAR"].value
+
+
+def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.types.Object,
+                keys: stream_logic.FaceKeys, stream: mpeg4face.FapStream, start: int,
+                method: str) -> stream_logic.Bake:
+    """Keys the shape keys from `start` at the scene's frame rate (LINEAR keyframes, in an
+    action on the mesh's Key datablock, replacing earlier curves of those keys), widens
+    their sliders, sets the scene's frame range and reports what was baked."""
+    scene = context.scene
+    result = stream_logic.bake(stream, keys, scene_rate(scene), method)
+    shape_keys = obj.data.shape_keys
+    animation = shape_keys.animation_data or shape_keys.animation_data_create()
+    if animation.action is None:
+        animation.action = bpy.data.actions.new(f"{obj.name} {ACTION_GROUP}")
+    fcurves = animation.action.fcurves
+    frames = np.arange(result.frames, dtype=np.float64) + start
+    clamped = []
+    for name, values in result.curves.items():
+        path = f'key_blocks["{bpy.utils.escape_identifier(name)}"].value'
+        old = fcurves.find(path)
+        if old is not None:
+            fcurves.remove(old)
+        curve = fcurves.new(path, action_group=ACTION_GROUP)
+        curve.keyframe_points.add(result.frames)
+        curve.keyframe_points.foreach_set("co", np.column_stack((frames, values)).ravel())
+        curve.keyframe_points.foreach_set("interpolation", [_LINEAR] * result.frames)
+        curve.update()
+        # Animated values clamp to the slider range too, so it must hold the baked values.
+        block = shape_keys.key_blocks[name]
+        low, high, beyond = stream_logic.widened_slider(
+            (block.slider_min, block.slider_max), (float(values.min()), float(values.max())))
+        block.slider_max, block.slider_min = high, low
+        if beyond:
+            clamped.append(name)
+    scene.frame_start = start
+    scene.frame_end = start + result.frames - 1
+    scene.frame_set(start)
+
+    if clamped:
+        op.report({"WARNING"}, f"Values beyond ±{stream_logic.SLIDER_LIMIT:g} are clamped on: "
+                  + ", ".join(clamped))
+    if result.missing:
+        op.report({"WARNING"}, "In the stream without a shape key: " + ", ".join(result.missing))
+    op.report({"INFO"}, f"Baked {len(result.baked_faps)} FAPs "
+              f"({', '.join(map(str, result.baked_faps)) or 'none'}) onto {obj.name}: "
+              f"{result.frames} frames from frame {start}")
+    return result
+
+
+def remember_stream(obj: bpy.types.Object, path: str, fit_path: str, start: int, frames: int
+                    ) -> None:
+    state = obj.mpeg4face_stream
+    state.filepath, state.fit_path = path, fit_path
+    state.start_frame, state.frames = start, frames
+
+
+# --- Live preview ------------------------------------------------------------------------
+
+
+@dataclass
+class LiveState:
+    """The live preview of one object: its face's tables and the stream, played from the
+    scene frame `start` at the scene's frame rate (sample and hold)."""
+
+    evaluator: mpeg4face.FatEvaluator
+    stream: mpeg4face.FapStream
+    start: int
+    restore: tuple[bool, int]  # show_only_shape_key, active_shape_key_index
+
+
+_live: dict[str, LiveState] = {}  # object name -> state
+
+
+def is_live(obj: bpy.types.Object) -> bool:
+    return obj.name in _live or (obj.data.shape_keys is not None
+                                 and LIVE_KEY in obj.data.shape_keys.key_blocks)
+
+
+def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
+               stream: mpeg4face.FapStream, start: int) -> list[str]:
+    """Builds the face's tables from the shape keys (generate_face), then shows the stream
+    through the core's evaluator: the exact MPEG-4 result, visemes and expressions with the
+    standard's priorities included. The result is written into a shape key LIVE_KEY shown
+    alone (show_only_shape_key), so the Basis and the other keys are never changed.
+    Returns generate_face's warnings; raises mpeg4face.Error for a face it refuses."""
+    stop_live(obj)
+    generated = mpeg4face.generate_face(mesh_data.face_model(obj, [k.name for k in keys.keys]))
+    state = LiveState(mpeg4face.FatEvaluator(generated["face"]), stream, start,
+                      (obj.show_only_shape_key, obj.active_shape_key_index))
+    obj.shape_key_add(name=LIVE_KEY, from_mix=False)
+    obj.show_only_shape_key = True
+    obj.active_shape_key_index = obj.data.shape_keys.key_blocks.find(LIVE_KEY)
+    _live[obj.name] = state
+    if _on_frame_change not in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.append(_on_frame_change)
+    _show(obj, state, scene)
+    return list(generated["warnings"])
+
+
+def stop_live(obj: bpy.types.Object) -> None:
+    """Ends the object's live preview: the live key goes, the Basis (and the baked keys, if
+    any) show again. Also cleans up a live key left in a saved file."""
+    state = _live.pop(obj.name, None)
+    key = obj.data.shape_keys
+    live = key.key_blocks.get(LIVE_KEY) if key else None
+    if live is not None:
+        obj.shape_key_remove(live)
+    if state is not None:
+        obj.show_only_shape_key, obj.active_shape_key_index = state.restore
+    elif live is not None:
+        obj.show_only_shape_key, obj.active_shape_key_index = False, 0
+    obj.data.update()
+    _remove_handler_when_idle()
+
+
+def _show(obj: bpy.types.Object, state: LiveState, scene: bpy.types.Scene) -> None:
+    seconds = (scene.frame_current - state.start) / scene_rate(scene)
+    index = stream_logic.live_index(state.stream.frame_numbers, state.stream.frame_rate, seconds)
+    coords = state.evaluator.evaluate(state.stream, index)["coord"][0]
+    mesh_data.set_shape_key_coords(obj.data.shape_keys.key_blocks[LIVE_KEY],
+                                   fp_logic.to_blender_axes(coords))
+    obj.data.update()
+
+
+@persistent
+def _on_frame_change(scene: bpy.types.Scene, *_args: object) -> None:
+    # A handler must never raise (it would on every frame): an object that is gone, or
+    # whose live key was removed (by Undo, say), leaves the preview.
+    for name, state in list(_live.items()):
+        try:
+            obj = bpy.data.objects.get(name)
+            key = obj.data.shape_keys if obj is not None and obj.type == "MESH" else None
+            if key is None or LIVE_KEY not in key.key_blocks:
+                del _live[name]
+                continue
+            _show(obj, state, scene)
+        except Exception as error:  # noqa: BLE001
+            _live.pop(name, None)
+            print(f"mpeg4face: live preview of {name} stopped: {type(error).__name__}: {error}")
+    _remove_handler_when_idle()
+
+
+def _remove_handler_when_idle() -> None:
+    if not _live and _on_frame_change in bpy.app.handlers.frame_change_post:
+        bpy.app.handlers.frame_change_post.remove(_on_frame_change)
+
+
+class MPEG4FACE_OT_live_preview(bpy.types.Operator):
+    """Start or stop the live preview of the object's stream: on every frame change the core
+    evaluates the face's tables (built from the shape keys) for the stream, exactly"""
+
+    bl_idname = "mpeg4face.live_preview"
+    bl_label = "Live Preview"
+    bl_options = {"REGISTER", "UNDO"}
+
+    action: EnumProperty(items=(("START", "Start", ""), ("STOP", "Stop", "")), default="START")
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        if self.action == "STOP":
+            obj = operators.active_mesh(self, context)
+            if obj is None:
+                return {"CANCELLED"}
+            stop_live(obj)
+            self.report({"INFO"}, f"Live preview of {obj.name} stopped")
+            return {"FINISHED"}
+        found = stream_mesh(self, context)
+        if found is None:
+            return {"CANCELLED"}
+        obj, keys = found
+        state = obj.mpeg4face_stream
+        if not state.filepath:
+            self.report({"ERROR"}, f"No stream on {obj.name}: import one first")
+            return {"CANCELLED"}
+        stream = read_stream(self, state.filepath, state.fit_path)
+        if stream is None:
+            return {"CANCELLED"}
+        return run_live(self, context, obj, keys, stream, state.start_frame)
+
+
+def run_live(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.types.Object,
+             keys: stream_logic.FaceKeys, stream: mpeg4face.FapStream, start: int) -> set[str]:
+    """Starts the live preview and sets the scene's frame range; reports."""
+    try:
+        warnings = start_live(obj, context.scene, keys, stream, start)
+    except INPUT_ERRORS as error:
+        op.report({"ERROR"}, f"Cannot build the face's tables from the shape keys: {error}")
+        return {"CANCELLED"}
+    for warning in warnings:
+        op.report({"WARNING"}, warning)
+    scene = context.scene
+    frames = stream_logic.scene_frame_count(stream.duration, scene_rate(scene))
+    scene.frame_start, scene.frame_end = start, start + frames - 1
+    op.report({"INFO"}, f"Live preview of {obj.name}: {frames} frames from frame {start}")
+    return {"FINISHED"}
+
+
+# --- Encoding ----------------------------------------------------------------------------
+
+ENCODING_MODES = (
+    ("predictive", "Predictive", "The standard's predictive coding: arithmetic-coded "
+     "differences from the previous frame"),
+    ("dct", "DCT", "A DCT of 16 consecutive values of each FAP (docs/dct-mode.md)"),
+    ("pca", "PCA", "A KLT per FAP group (docs/pca-mode.md)"),
+)
+
+
+class MPEG4FACE_OT_encode_fap_stream(bpy.types.Operator, ExportHelper):
+    """Encode the stream imported on the active object as an FBA bitstream (.fba) and show
+    its bit rate and PSNR"""
+
+    bl_idname = "mpeg4face.encode_fap_stream"
+    bl_label = "Encode FAP Stream"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".fba"
+    filter_glob: StringProperty(default="*.fba", options={"HIDDEN"})
+    mode: EnumProperty(name="Mode", items=ENCODING_MODES, default="predictive")
+    fap_quant: IntProperty(
+        name="fap_quant", description="Quantiser scale: larger is coarser (0: none)",
+        default=1, min=0, max=31)
+
+    def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        obj = context.active_object
+        if obj is not None and obj.type == "MESH" and obj.mpeg4face_stream.filepath:
+            source = Path(bpy.path.abspath(obj.mpeg4face_stream.filepath))
+            self.filepath = str(source.with_name(source.stem + "_coded.fba"))
+        return ExportHelper.invoke(self, context, event)
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        obj = operators.active_mesh(self, context)
+        if obj is None:
+            return {"CANCELLED"}
+        state = obj.mpeg4face_stream
+        if not state.filepath:
+            self.report({"ERROR"}, f"No stream on {obj.name}: import or speak one first")
+            return {"CANCELLED"}
+        # The stream as sent (no FIT: that is the decoder's side).
+        stream = read_stream(self, state.filepath)
+        if stream is None:
+            return {"CANCELLED"}
+        try:
+            encoding = mpeg4face.encode_fba(stream, self.mode, self.fap_quant)
+            Path(self.filepath).write_bytes(encoding.data)
+        except INPUT_ERRORS as error:
+            self.report({"ERROR"}, f"Cannot encode: {error}")
+            return {"CANCELLED"}
+        state.encoded_path, state.encoded_mode = self.filepath, self.mode
+        state.bits, state.bits_per_second = encoding.bits, encoding.bits_per_second
+        state.psnr = math.nan if encoding.psnr is None else encoding.psnr
+        self.report({"INFO"}, f"Wrote {self.filepath}: "
+                    + stream_logic.encoding_summary(encoding.bits, encoding.bits_per_second,
+                                                    encoding.psnr))
+        return {"FINISHED"}
+
+
+# --- Speech ------------------------------------------------------------------------------
+
+VOICES = tuple((v, v, f"flite's voice {v}") for v in ("kal", "slt", "awb", "rms", "kal16"))
+DEFAULT_SPEECH_FOLDER = "//speech"
+
+
+def speech_folder(folder: str) -> Path:
+    """The folder for the audio: relative to the .blend ("//"), or the temporary folder's
+    mpeg4face-speech while the file has never been saved."""
+    if folder.startswith("//") and not bpy.data.filepath:
+        return Path(tempfile.gettempdir()) / "mpeg4face-speech"
+    return Path(bpy.path.abspath(folder))
+
+
+def add_sound_strip(scene: bpy.types.Scene, obj: bpy.types.Object, wav: Path, start: int
+                    ) -> bpy.types.Sequence:
+    """The speech as a sound strip from `start` (replacing the object's earlier one), in
+    its own channel above the others."""
+    editor = scene.sequence_editor or scene.sequence_editor_create()
+    name = f"{SPEECH_STRIP} {obj.name}"
+    for strip in [s for s in editor.sequences if s.name.startswith(name)]:
+        editor.sequences.remove(strip)
+    channel = max((s.channel for s in editor.sequences), default=0) + 1
+    return editor.sequences.new_sound(name, str(wav), channel, start)
+
+
+class MPEG4FACE_OT_speak_text(bpy.types.Operator):
+    """Speak a text with flite onto the face: the visemes (and the bookmarks' FAPs) become
+    shape-key animation, the audio a sound strip in sync"""
+
+    bl_idname = "mpeg4face.speak_text"
+    bl_label = "Speak Text onto Face"
+    bl_options = {"REGISTER", "UNDO"}
+
+    text: StringProperty(
+        name="Text", default="Hello <FAP 2 1 40 1 40 800 3> world",
+        description="What to say; bookmarks <FAP 2 ...> (expressions) and <FAP n ...> "
+        "(low-level FAPs) as in docs/speech.md")
+    voice: EnumProperty(name="Voice", items=VOICES, default="kal")
+    folder: StringProperty(
+        name="Audio folder", subtype="DIR_PATH", default=DEFAULT_SPEECH_FOLDER,
+        description="Where the .wav and .fap go (// is the .blend's folder; a temporary "
+        "folder while the file is unsaved)")
+    start_frame: IntProperty(name="Start frame", default=1)
+
+    def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        return context.window_manager.invoke_props_dialog(self, width=480)
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        found = stream_mesh(self, context)
+        if found is None:
+            return {"CANCELLED"}
+        obj, keys = found
+        if not self.text.strip():
+            self.report({"ERROR"}, "Nothing to say: the text is empty")
+            return {"CANCELLED"}
+        scene = context.scene
+        fps = scene_rate(scene)
+        folder = speech_folder(self.folder)
+        # Named by what is said, so the same text, voice and rate reuse one file name.
+        digest = hashlib.sha1(f"{self.text}|{self.voice}|{fps}".encode()).hexdigest()[:10]
+        base = folder / f"{bpy.path.clean_name(obj.name)}-{digest}"
+        wav, fap = base.with_suffix(".wav"), base.with_suffix(".fap")
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            stream = mpeg4face.speak(self.text, str(wav), fps, self.voice)
+            mpeg4face.write_fap(stream, str(fap))
+        except INPUT_ERRORS as error:  # flite missing or failing, a bad bookmark
+            self.report({"ERROR"}, f"Cannot speak: {error}")
+            return {"CANCELLED"}
+        stop_live(obj)
+        result = bake_stream(self, context, obj, keys, stream, self.start_frame, "HOLD")
+        remember_stream(obj, str(fap), "", self.start_frame, result.frames)
+        strip = add_sound_strip(scene, obj, wav, self.start_frame)
+        scene.frame_end = max(scene.frame_end, strip.frame_final_end - 1)
+        scene.sync_mode = "AUDIO_SYNC"  # drop frames rather than drift from the audio
+        self.report({"INFO"}, f"Spoke into {wav}")
+        return {"FINISHED"}
+
+
+_classes = (
+    MPEG4FACE_PG_stream,
+    MPEG4FACE_OT_live_preview,
+    MPEG4FACE_OT_encode_fap_stream,
+    MPEG4FACE_OT_speak_text,
+)
+
+
+def register() -> None:
+    for cls in _classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Object.mpeg4face_stream = PointerProperty(type=MPEG4FACE_PG_stream)
+
+
+def unregister() -> None:
+    for name in list(_live):
+        obj = bpy.data.objects.get(name)
+        # Best effort: a mesh left showing its live key is cleaned by the next Stop.
+        try:
+            if obj is not None:
+                stop_live(obj)
+        except Exception:  # noqa: BLE001 - unregister must not fail
+            pass
+    _live.clear()
+    _remove_handler_when_idle()
+    del bpy.types.Object.mpeg4face_stream
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)

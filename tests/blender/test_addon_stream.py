@@ -1,0 +1,314 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The add-on's FAP stream operators on CANDIDE-3 with a shape key fap3_open_jaw@512:
+import and bake (values, sliders, frame range and rate, resampling), the live preview
+against the expected FAT result, encoding, speech and bad input. Run through
+run_in_blender.py."""
+
+import shutil
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_blender.py)")
+
+import mpeg4face  # noqa: E402
+from conftest import DATA  # noqa: E402
+
+from mpeg4face_blender import operators_stream, panels_stream  # noqa: E402
+
+JOY = DATA / "xface-fap" / "joy.fap"
+KEY = "fap3_open_jaw@512"
+JAW = slice(0, 20)  # the vertices the key moves
+DROP = np.array([0.0, 0.0, -0.1])  # their displacement at FAP 3 = 512, Blender axes
+
+
+def coords(block_or_mesh):
+    data = block_or_mesh.data if hasattr(block_or_mesh, "data") else block_or_mesh.vertices
+    co = np.empty(len(data) * 3, dtype=np.float32)
+    data.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def add_key(obj, name, moved=JAW, by=DROP):
+    if obj.data.shape_keys is None:
+        obj.shape_key_add(name="Basis")
+    key = obj.shape_key_add(name=name, from_mix=False)
+    co = coords(key)
+    co[moved] += by
+    key.data.foreach_set("co", co.astype(np.float32).ravel())
+    return key
+
+
+@pytest.fixture
+def head(candide_head):
+    """CANDIDE-3 with the shape key fap3_open_jaw@512, the scene at 30 fps; afterwards the
+    live preview is stopped and the scene's animation and strips removed."""
+    obj, _, _ = candide_head
+    add_key(obj, KEY)
+    scene = bpy.context.scene
+    scene.render.fps, scene.render.fps_base = 30, 1.0
+    yield obj
+    operators_stream.stop_live(obj)
+    if scene.sequence_editor:
+        scene.sequence_editor_clear()
+    for action in list(bpy.data.actions):
+        bpy.data.actions.remove(action)
+
+
+@pytest.fixture(scope="module")
+def joy():
+    stream = mpeg4face.read_fap_stream(JOY)
+    return stream, stream.resolved()["values"][:, 2]
+
+
+def key_value(obj, frame, name=KEY):
+    curve = obj.data.shape_keys.animation_data.action.fcurves.find(f'key_blocks["{name}"].value')
+    return curve.evaluate(frame)
+
+
+def test_import_bakes_the_stream(head, joy):
+    stream, values = joy
+    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), start_frame=5) == {"FINISHED"}
+    scene = bpy.context.scene
+    assert scene.render.fps / scene.render.fps_base == stream.frame_rate == 25
+    assert (scene.frame_start, scene.frame_end) == (5, 5 + 107)
+    curve = head.data.shape_keys.animation_data.action.fcurves.find(f'key_blocks["{KEY}"].value')
+    assert len(curve.keyframe_points) == 108
+    assert {p.interpolation for p in curve.keyframe_points} == {"LINEAR"}
+    for index in (0, 10, 30, 60, 107):
+        assert key_value(head, 5 + index) == pytest.approx(values[index] / 512, abs=1e-6)
+    scene.frame_set(5 + 30)
+    assert head.data.shape_keys.key_blocks[KEY].value == pytest.approx(values[30] / 512, abs=1e-6)
+    block = head.data.shape_keys.key_blocks[KEY]
+    assert values.min() < 0
+    assert block.slider_min == pytest.approx(values.min() / 512, abs=1e-6)  # widened
+    assert block.slider_max == 1.0
+    state = head.mpeg4face_stream
+    assert state.filepath == str(JOY) and state.frames == 108 and state.start_frame == 5
+
+
+def test_slider_widened_above_one(head, joy):
+    _, values = joy
+    head.data.shape_keys.key_blocks[KEY].name = "fap3@128"
+    bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY))
+    assert key_value(head, 1 + 40, "fap3@128") == pytest.approx(values[40] / 128, abs=1e-6)
+    assert head.data.shape_keys.key_blocks["fap3@128"].slider_max == pytest.approx(
+        values.max() / 128, abs=1e-6)
+
+
+def test_two_amplitudes_of_one_fap(head, joy):
+    _, values = joy
+    add_key(head, "fap3@128")
+    bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY))
+    index = int(np.argmax(values))  # above 128: in [128, 512]
+    t = (values[index] - 128) / (512 - 128)
+    assert key_value(head, 1 + index) == pytest.approx(t, abs=1e-6)
+    assert key_value(head, 1 + index, "fap3@128") == pytest.approx(1 - t, abs=1e-6)
+
+
+def test_import_resamples_to_the_scene_rate(head, joy):
+    _, values = joy
+    scene = bpy.context.scene
+    scene.render.fps = 50
+    assert bpy.ops.mpeg4face.import_fap_stream(
+        filepath=str(JOY), frame_rate="SCENE", resample="LINEAR") == {"FINISHED"}
+    assert scene.render.fps == 50
+    assert (scene.frame_start, scene.frame_end) == (1, 216)
+    for index in (10, 30):
+        assert key_value(head, 1 + 2 * index) == pytest.approx(values[index] / 512, abs=1e-6)
+        assert key_value(head, 2 + 2 * index) == pytest.approx(
+            (values[index] + values[index + 1]) / 1024, abs=1e-6)
+
+
+def test_import_through_a_fit(head, tmp_path, joy):
+    fit = tmp_path / "fit.json"
+    fit.write_text(mpeg4face.fit_preset("left-right").to_json())
+    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), fit_path=str(fit)) == {"FINISHED"}
+    assert head.mpeg4face_stream.fit_path == str(fit)
+
+
+def evaluated(obj):
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    return coords(obj.evaluated_get(depsgraph).data)
+
+
+def test_live_preview_is_the_fat_result_and_stops(head, joy):
+    _, values = joy
+    basis = coords(head.data.shape_keys.key_blocks["Basis"])
+    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE") == {"FINISHED"}
+    assert operators_stream.is_live(head)
+    assert operators_stream._on_frame_change in bpy.app.handlers.frame_change_post
+    assert not head.data.shape_keys.animation_data  # nothing baked
+    for index in (30, 60):
+        bpy.context.scene.frame_set(1 + index)
+        expected = basis.copy()
+        expected[JAW] += values[index] / 512 * DROP
+        np.testing.assert_allclose(evaluated(head), expected, atol=1e-5)
+    assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
+    assert not operators_stream.is_live(head)
+    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_post
+    np.testing.assert_allclose(evaluated(head), basis, atol=1e-6)
+    # started again from the panel's button, from the remembered stream
+    assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
+    assert operators_stream.is_live(head)
+
+
+def test_live_handler_forgets_a_deleted_object(head):
+    bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
+    head.shape_key_remove(head.data.shape_keys.key_blocks[operators_stream.LIVE_KEY])
+    bpy.context.scene.frame_set(3)  # must not raise
+    assert not operators_stream._live
+    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_post
+
+
+def test_encode(head, tmp_path, joy):
+    stream, _ = joy
+    with pytest.raises(RuntimeError, match="No stream on candide3"):
+        bpy.ops.mpeg4face.encode_fap_stream(filepath=str(tmp_path / "none.fba"))
+    bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY))
+    out = tmp_path / "joy.fba"
+    assert bpy.ops.mpeg4face.encode_fap_stream(
+        filepath=str(out), mode="dct", fap_quant=2) == {"FINISHED"}
+    expected = mpeg4face.encode_fba(stream, "dct", 2)
+    assert out.read_bytes() == expected.data
+    state = head.mpeg4face_stream
+    assert (state.bits, state.encoded_mode) == (expected.bits, "dct")
+    assert state.bits_per_second == pytest.approx(expected.bits_per_second)
+    assert state.psnr == pytest.approx(expected.psnr)
+    assert len(mpeg4face.read_fap_stream(out)) == len(stream)
+
+
+@pytest.mark.skipif(shutil.which("flite") is None, reason="flite is not installed")
+def test_speak(head, tmp_path):
+    add_key(head, "viseme10", by=np.array([0.0, 0.0, -0.05]))
+    add_key(head, "viseme1", by=np.array([0.0, 0.0, 0.01]))
+    scene = bpy.context.scene
+    assert bpy.ops.mpeg4face.speak_text(
+        text="Hello papa", voice="slt", folder=str(tmp_path), start_frame=10) == {"FINISHED"}
+    state = head.mpeg4face_stream
+    assert state.filepath.endswith(".fap") and state.start_frame == 10
+    stream = mpeg4face.read_fap_stream(state.filepath)
+    assert stream.frame_rate == 30
+    action = head.data.shape_keys.animation_data.action
+    for name in ("viseme10", "viseme1"):
+        curve = action.fcurves.find(f'key_blocks["{name}"].value')
+        assert max(p.co[1] for p in curve.keyframe_points) > 0.5
+    strips = list(scene.sequence_editor.sequences)
+    assert len(strips) == 1 and strips[0].type == "SOUND"
+    wav = bpy.path.abspath(strips[0].sound.filepath)
+    assert wav.endswith(".wav") and wav.startswith(str(tmp_path))
+    assert strips[0].frame_start == 10
+    assert scene.frame_start == 10
+    assert scene.frame_end >= strips[0].frame_final_end - 1
+    assert scene.frame_end >= 10 + len(stream) - 1
+    assert scene.sync_mode == "AUDIO_SYNC"
+    # speaking again replaces the strip
+    bpy.ops.mpeg4face.speak_text(text="Hello", folder=str(tmp_path))
+    assert len(scene.sequence_editor.sequences) == 1
+
+
+def test_speak_without_flite_is_reported(head, tmp_path, monkeypatch):
+    monkeypatch.setenv("PATH", str(tmp_path))  # no flite on it
+    message = r"Cannot speak: .*cannot run 'flite' \(No such file or directory\): install"
+    with pytest.raises(RuntimeError, match=message):
+        bpy.ops.mpeg4face.speak_text(text="Hello", folder=str(tmp_path))
+    assert not head.mpeg4face_stream.filepath
+    assert not list(tmp_path.glob("*.wav"))
+
+
+def test_bad_input_is_reported(head, tmp_path):
+    bad = tmp_path / "bad.fap"
+    bad.write_text("not a stream\n")
+    with pytest.raises(RuntimeError, match="Cannot read the stream"):
+        bpy.ops.mpeg4face.import_fap_stream(filepath=str(bad))
+    with pytest.raises(RuntimeError, match="Cannot read the stream"):
+        bpy.ops.mpeg4face.import_fap_stream(filepath=str(tmp_path / "missing.fba"))
+    with pytest.raises(RuntimeError, match="Cannot read the stream"):
+        bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), fit_path=str(bad))
+    with pytest.raises(RuntimeError, match="No stream on candide3"):
+        bpy.ops.mpeg4face.live_preview(action="START")
+    calls = (
+        lambda: bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY)),
+        lambda: bpy.ops.mpeg4face.speak_text(text="Hello", folder=str(tmp_path)),
+        lambda: bpy.ops.mpeg4face.live_preview(action="START"),
+    )
+    head.data.shape_keys.key_blocks[KEY].name = "jaw"
+    for call in calls:
+        with pytest.raises(RuntimeError, match="candide3 has no shape keys named fap<N>"):
+            call()
+    bpy.context.view_layer.objects.active = None
+    for call in (*calls, lambda: bpy.ops.mpeg4face.encode_fap_stream(filepath=str(JOY))):
+        with pytest.raises(RuntimeError, match="No active object"):
+            call()
+    bpy.context.view_layer.objects.active = head
+
+
+def test_live_needs_measurable_fapu(head):
+    for group in list(head.vertex_groups):
+        head.vertex_groups.remove(group)
+    with pytest.raises(RuntimeError, match="Cannot build the face's tables.*MNS0"):
+        bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
+    assert not operators_stream.is_live(head)
+
+
+class Layout:
+    """Records the panel's labels and buttons (stands in for bpy.types.UILayout)."""
+
+    def __init__(self, log):
+        self.log = log
+
+    def label(self, text="", icon="NONE"):
+        self.log.append(text)
+
+    def operator(self, idname, text="", icon="NONE"):
+        self.log.append(f"[{text or idname}]")
+        return SimpleNamespace()
+
+    def __getattr__(self, name):  # row(), column(), box()
+        return lambda *args, **kwargs: Layout(self.log)
+
+
+def test_panel_shows_the_stream_and_the_encoding(head, tmp_path):
+    def draw():
+        log = []
+        panels_stream.MPEG4FACE_PT_fap_stream.draw(SimpleNamespace(layout=Layout(log)), bpy.context)
+        return log
+
+    assert draw()[0] == "1 shape keys named for FAPs"
+    bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY))
+    bpy.ops.mpeg4face.encode_fap_stream(filepath=str(tmp_path / "joy.fba"), mode="pca")
+    log = draw()
+    assert "joy.fap" in log and "108 frames from frame 1" in log
+    assert "[Start Live Preview]" in log and "pca: joy.fba" in log
+    assert any(line.endswith("dB") and "bit/s" in line for line in log)
+
+
+def test_registered_with_a_menu_entry():
+    from mpeg4face_blender import import_stream
+
+    for name in ("MPEG4FACE_OT_import_fap_stream", "MPEG4FACE_OT_encode_fap_stream",
+                 "MPEG4FACE_OT_speak_text", "MPEG4FACE_OT_live_preview",
+                 "MPEG4FACE_PT_fap_stream"):
+        assert hasattr(bpy.types, name), name
+    assert import_stream.menu_entry in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
+
+
+def test_disabling_the_addon_stops_the_live_preview(head, addon_disabled_after):
+    bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
+    addon_disabled_after()
+    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_post
+    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert not head.show_only_shape_key
+
+
+@pytest.fixture
+def addon_disabled_after():
+    """A function that disables the add-on; it is enabled again after the test."""
+    import addon_utils
+
+    from conftest import ADDON
+
+    yield lambda: addon_utils.disable(ADDON, default_set=True)
+    addon_utils.enable(ADDON, default_set=True)
