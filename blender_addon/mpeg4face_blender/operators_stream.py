@@ -189,8 +189,8 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
     obj.show_only_shape_key = True
     obj.active_shape_key_index = obj.data.shape_keys.key_blocks.find(LIVE_KEY)
     _live[obj.name] = state
-    if _on_frame_change not in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.append(_on_frame_change)
+    if _on_frame_change not in bpy.app.handlers.frame_change_pre:
+        bpy.app.handlers.frame_change_pre.append(_on_frame_change)
     _show(obj, state, scene)
     return list(generated["warnings"])
 
@@ -239,8 +239,8 @@ def _on_frame_change(scene: bpy.types.Scene, *_args: object) -> None:
 
 
 def _remove_handler_when_idle() -> None:
-    if not _live and _on_frame_change in bpy.app.handlers.frame_change_post:
-        bpy.app.handlers.frame_change_post.remove(_on_frame_change)
+    if not _live and _on_frame_change in bpy.app.handlers.frame_change_pre:
+        bpy.app.handlers.frame_change_pre.remove(_on_frame_change)
 
 
 class MPEG4FACE_OT_live_preview(bpy.types.Operator):

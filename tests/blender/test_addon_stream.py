@@ -138,7 +138,7 @@ def test_live_preview_is_the_fat_result_and_stops(head, joy):
     basis = coords(head.data.shape_keys.key_blocks["Basis"])
     assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE") == {"FINISHED"}
     assert operators_stream.is_live(head)
-    assert operators_stream._on_frame_change in bpy.app.handlers.frame_change_post
+    assert operators_stream._on_frame_change in bpy.app.handlers.frame_change_pre
     assert not head.data.shape_keys.animation_data  # nothing baked
     for index in (30, 60):
         bpy.context.scene.frame_set(1 + index)
@@ -148,7 +148,7 @@ def test_live_preview_is_the_fat_result_and_stops(head, joy):
     assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
     assert not operators_stream.is_live(head)
     assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
-    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_post
+    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
     np.testing.assert_allclose(evaluated(head), basis, atol=1e-6)
     # started again from the panel's button, from the remembered stream
     assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
@@ -160,7 +160,7 @@ def test_live_handler_forgets_a_deleted_object(head):
     head.shape_key_remove(head.data.shape_keys.key_blocks[operators_stream.LIVE_KEY])
     bpy.context.scene.frame_set(3)  # must not raise
     assert not operators_stream._live
-    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_post
+    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
 
 
 def test_encode(head, tmp_path, joy):
@@ -298,7 +298,7 @@ def test_registered_with_a_menu_entry():
 def test_disabling_the_addon_stops_the_live_preview(head, addon_disabled_after):
     bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
     addon_disabled_after()
-    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_post
+    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
     assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
     assert not head.show_only_shape_key
 
