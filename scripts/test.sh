@@ -51,7 +51,9 @@ PYTHONPATH="$root/build/release/python" \
 tally_pytest pytest.log
 
 step "Blender tests"
-MPEG4FACE_PYTHONPATH="$root/build/release/python" counted blender.log \
+# The viewport test keeps its screenshots there (docs/images has copies for the user guide).
+MPEG4FACE_PYTHONPATH="$root/build/release/python" MPEG4FACE_SCREENSHOTS="$root/build/screenshots" \
+  counted blender.log \
   blender -b --factory-startup --python-exit-code 1 --python tests/blender/run_in_blender.py
 tally_pytest blender.log
 

@@ -32,10 +32,10 @@ def standard_to_blender(coords):
     return [(x, -z, y) for x, y, z in coords]
 
 
-@pytest.fixture
-def candide_head():
-    """CANDIDE-3 as the active Blender mesh object in Object Mode, its feature points from
-    feature_points.csv as FP_ vertex groups: (object, FaceModel, feature point -> vertex)."""
+def make_candide_head():
+    """CANDIDE-3 as the active, selected Blender mesh object in Object Mode, its feature
+    points from feature_points.csv as FP_ vertex groups: (object, FaceModel, feature point ->
+    vertex). Also used by viewport/screenshots.py."""
     import mpeg4face
 
     model = mpeg4face.read_model(DATA / "candide3" / "candide3.wfm")
@@ -51,6 +51,14 @@ def candide_head():
         obj.vertex_groups.new(name=f"FP_{fp}").add([vertex], 1.0, "REPLACE")
     bpy.context.view_layer.objects.active = obj
     obj.select_set(True)
+    return obj, model, fp_vertices
+
+
+@pytest.fixture
+def candide_head():
+    """make_candide_head(), removed afterwards."""
+    obj, model, fp_vertices = make_candide_head()
+    data = obj.data
     yield obj, model, fp_vertices
     if obj.mode != "OBJECT":
         bpy.ops.object.mode_set(mode="OBJECT")

@@ -1,0 +1,36 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The real viewport under Xvfb (viewport/screenshots.py in a Blender of its own): a stream
+previewed on CANDIDE-3 changes the mouth region of the screenshots between the neutral
+frame and the open_jaw frame, and leaves the forehead as it was. The screenshots are kept
+in $MPEG4FACE_SCREENSHOTS when it is set (scripts/test.sh: build/screenshots; the user
+guide's pictures in docs/images come from there). Run through run_in_blender.py."""
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_blender.py)")
+
+SCRIPT = Path(__file__).resolve().parent / "viewport" / "screenshots.py"
+
+
+def test_previewed_stream_moves_the_mouth_in_the_viewport(tmp_path):
+    out = Path(os.environ.get("MPEG4FACE_SCREENSHOTS") or tmp_path)
+    out.mkdir(parents=True, exist_ok=True)
+    env = dict(os.environ, MPEG4FACE_SCREENSHOT_DIR=str(out))
+    command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24",
+               shutil.which("blender") or bpy.app.binary_path, "--factory-startup",
+               "--enable-event-simulate", "--python", str(SCRIPT)]
+    run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    result = json.loads((out / "result.json").read_text())
+    assert result["open_jaw_value"] == 315 and result["key_value"] == pytest.approx(1.0)
+    # Mean change of a colour channel (0..1) over the box around the feature points.
+    assert result["mouth_change"] > 0.01, result
+    assert result["forehead_change"] < result["mouth_change"] / 20, result
+    for name in ("viewport_neutral.png", "viewport_open_jaw.png", "blender_sidebar.png"):
+        assert (out / name).stat().st_size > 10_000, name
