@@ -36,9 +36,11 @@ def register() -> None:
     try:
         preferences.register()
         if status.ok:
-            from . import operators, panels, properties
+            from . import (export, operators, operators_faces, panels, panels_faces,
+                           properties)
 
-            for module in (properties, operators, panels):
+            for module in (properties, operators, panels, operators_faces, panels_faces,
+                           export):
                 module.register()
                 _registered.append(module)
     except Exception as error:  # noqa: BLE001 - e.g. a module too old for this add-on
