@@ -401,7 +401,7 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
         def work(update: Callable[[float], None]) -> int:
             done = 0
             for i, target in enumerate(targets):
-                if not has_feature_points(self, target):
+                if not has_feature_points(self, target):  # reported; the others go on
                     continue
                 target_model, _ = object_model(target, with_keys=False)
                 try:
