@@ -12,6 +12,7 @@ from collections.abc import Callable
 
 import bpy
 import numpy as np
+from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatProperty, \
     IntProperty, StringProperty
 
@@ -20,8 +21,14 @@ import mpeg4face
 from . import fp_logic, mesh_data, shape_keys
 from .operators import active_mesh
 
-# The last "Generate FaceDefTables" report per object name, for the panel.
+# The last "Generate FaceDefTables" (or export) report per object name, for the panel;
+# forgotten when another file is loaded.
 reports: dict[str, shape_keys.TablesReport] = {}
+
+
+@persistent
+def _forget_reports(*_args: object) -> None:
+    reports.clear()
 
 _AMPLITUDE_LIMIT = 2**20  # far beyond any FAP's useful range; only keeps the field sane
 
@@ -452,9 +459,12 @@ _classes = (
 def register() -> None:
     for cls in _classes:
         bpy.utils.register_class(cls)
+    bpy.app.handlers.load_post.append(_forget_reports)
 
 
 def unregister() -> None:
+    if _forget_reports in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_forget_reports)
     reports.clear()
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)

@@ -222,6 +222,10 @@ def test_bad_input_reports(candide_head, tmp_path):
             op()
     with pytest.raises(RuntimeError, match="no shape keys"):
         bpy.ops.mpeg4face.export_vrml(filepath=str(tmp_path / "x.wrl"))
+    with pytest.raises(RuntimeError, match="camera object, not a mesh"):
+        bpy.ops.mpeg4face.export_gltf(filepath=str(tmp_path / "x.glb"), object_name="Camera")
+    with pytest.raises(RuntimeError, match="No object Nobody"):
+        bpy.ops.mpeg4face.export_gltf(filepath=str(tmp_path / "x.glb"), object_name="Nobody")
     with pytest.raises(RuntimeError, match="Amplitude 0"):
         bpy.ops.mpeg4face.add_fap_shape_key(fap="3", amplitude=0)
     bpy.ops.mpeg4face.add_fap_shape_key(fap="3", amplitude=512)
@@ -253,3 +257,21 @@ def test_bad_input_reports(candide_head, tmp_path):
 def test_export_menu_entries():
     entries = [f.__name__ for f in bpy.types.TOPBAR_MT_file_export._dyn_ui_initialize()]
     assert any(f == "_menu" for f in entries)
+
+
+def test_panels(head):
+    from test_addon_feature_points import draw
+
+    from mpeg4face_blender import panels_faces
+
+    obj, _ = head
+    operators_faces.reports.clear()  # earlier tests' heads had the same name
+    lines = draw(panels_faces.MPEG4FACE_PT_shape_keys)
+    assert lines[0] == "1 shape keys named for MPEG-4"
+    assert "operator mpeg4face.mirror_shape_key: " in lines
+    assert "Not generated yet" in draw(panels_faces.MPEG4FACE_PT_face_tables)
+    bpy.ops.mpeg4face.generate_tables()
+    lines = draw(panels_faces.MPEG4FACE_PT_face_tables)
+    assert "1 FaceDefTables from 1 shape keys" in lines and "fap3 open_jaw: 1 vertices" in lines
+    lines = draw(panels_faces.MPEG4FACE_PT_cloning)
+    assert "Targets: select other meshes" in lines
