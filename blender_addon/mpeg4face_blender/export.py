@@ -57,11 +57,11 @@ class _ExportFace(ExportHelper):
             obj.update_from_editmode()
 
         def work(update) -> shape_keys.TablesReport:
-            generated = operators_faces.generate(obj, self.threshold)
+            face, report = operators_faces.generate(obj, self.threshold)
             update(1)
-            self.writer(generated["face"], self.filepath)
+            self.writer(face, self.filepath)
             update(2)
-            return shape_keys.tables_report(generated)
+            return report
 
         try:
             report = operators_faces.with_progress(context, 2, work)

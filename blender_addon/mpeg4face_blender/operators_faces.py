@@ -95,11 +95,14 @@ def object_model(obj: bpy.types.Object, with_keys: bool) -> tuple[mpeg4face.Face
     return shape_keys.face_model(coords, index, fp_vertices, shapes), warnings
 
 
-def generate(obj: bpy.types.Object, threshold: float) -> dict:
-    """generate_face on the object's keys; raises mpeg4face.Error with the core's reason
-    (e.g. "MNS0 is not measured: needs 9.15 and 2.2")."""
-    model, _ = object_model(obj, with_keys=True)
-    return mpeg4face.generate_face(model, threshold)
+def generate(obj: bpy.types.Object, threshold: float
+             ) -> tuple[mpeg4face.MpegFace, shape_keys.TablesReport]:
+    """generate_face on the object's keys: the face and its report (with the FP_ group
+    warnings); raises mpeg4face.Error with the core's reason (e.g. "MNS0 is not measured:
+    needs 9.15 and 2.2")."""
+    model, group_warnings = object_model(obj, with_keys=True)
+    generated = mpeg4face.generate_face(model, threshold)
+    return generated["face"], shape_keys.tables_report(generated, group_warnings)
 
 
 # --- checks shared by the operators ---------------------------------------------------------
@@ -374,7 +377,7 @@ class MPEG4FACE_OT_generate_tables(bpy.types.Operator):
         if obj.mode == "EDIT":
             obj.update_from_editmode()  # the keys' data is stale in Edit Mode
         try:
-            report = shape_keys.tables_report(generate(obj, self.threshold))
+            _, report = generate(obj, self.threshold)
         except mpeg4face.Error as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}

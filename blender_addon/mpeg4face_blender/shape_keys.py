@@ -313,14 +313,15 @@ class TablesReport:
         return out
 
 
-def tables_report(generated: Mapping[str, object]) -> TablesReport:
-    """The report of generate_face's answer."""
+def tables_report(generated: Mapping[str, object], group_warnings: Sequence[str] = ()
+                  ) -> TablesReport:
+    """The report of generate_face's answer, after the warnings about FP_ groups."""
     tables = generated["face"].tables
     return TablesReport(
         [table_title(t["fap"], t["select"]) for t in tables],
         [sum(m["vertices"] for m in t["meshes"]) for t in tables],
         int(generated["copies"]),
-        list(generated["warnings"]),
+        [*group_warnings, *generated["warnings"]],
         list(generated["ignored"]),
     )
 

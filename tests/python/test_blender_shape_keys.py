@@ -126,6 +126,9 @@ def test_face_model_and_report(candide):
     assert report.copies == 1 and report.ignored == ["jawOpen"]
     assert report.lines()[0] == "1 FaceDefTables from 1 shape keys"
     assert "ignored (not in the grammar): jawOpen" in report.lines()
+    with_groups = shape_keys.tables_report(mpeg4face.generate_face(model), ["group FP_x"])
+    assert with_groups.warnings == ["group FP_x"]
+    assert "warning: group FP_x" in with_groups.lines()
 
 
 def test_table_titles():
