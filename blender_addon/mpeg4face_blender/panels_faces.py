@@ -1,0 +1,70 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Sidebar panels of the "MPEG-4" tab for FAP shape keys: adding, mapping and mirroring
+keys, the last "Generate FaceDefTables" report, and cloning."""
+
+import bpy
+
+from . import operators_faces, shape_keys
+from .panels import _Sidebar
+
+
+def _grammar_keys(obj: bpy.types.Object) -> list[str]:
+    keys = obj.data.shape_keys
+    return [k.name for k in keys.key_blocks if shape_keys.is_grammar_name(k.name)] if keys else []
+
+
+class MPEG4FACE_PT_shape_keys(_Sidebar, bpy.types.Panel):
+    bl_label = "FAP Shape Keys"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        return context.active_object is not None and context.active_object.type == "MESH"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        obj = context.active_object
+        layout = self.layout
+        named = _grammar_keys(obj)
+        layout.label(text=f"{len(named)} shape keys named for MPEG-4")
+        col = layout.column(align=True)
+        col.operator("mpeg4face.add_fap_shape_key", text="Add FAP Key...", icon="VIEWZOOM")
+        for kind, text in (("VISEME", "Add Viseme Key..."), ("EXPRESSION", "Add Expression Key...")):
+            col.operator("mpeg4face.add_fap_shape_key", text=text).kind = kind
+        col.operator("mpeg4face.map_shape_keys", icon="SHAPEKEY_DATA")
+        col.operator("mpeg4face.mirror_shape_key", icon="MOD_MIRROR")
+
+
+class MPEG4FACE_PT_face_tables(_Sidebar, bpy.types.Panel):
+    """The FaceDefTables the shape keys give: the last report of Generate FaceDefTables."""
+
+    bl_label = "FaceDefTables"
+    bl_parent_id = "MPEG4FACE_PT_shape_keys"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        layout = self.layout
+        layout.operator("mpeg4face.generate_tables", icon="FILE_REFRESH")
+        report = operators_faces.reports.get(context.active_object.name)
+        if report is None:
+            layout.label(text="Not generated yet")
+            return
+        col = layout.column(align=True)
+        for line in report.lines():
+            warn = line.startswith(("warning", "ignored"))
+            col.label(text=line, icon="ERROR" if warn else "NONE")
+
+
+class MPEG4FACE_PT_cloning(_Sidebar, bpy.types.Panel):
+    bl_label = "Cloning"
+    bl_parent_id = "MPEG4FACE_PT_shape_keys"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context: bpy.types.Context) -> None:
+        targets = [o.name for o in context.selected_objects
+                   if o != context.active_object and o.type == "MESH"]
+        layout = self.layout
+        layout.label(text=f"Source: {context.active_object.name} (active)")
+        layout.label(text=f"Targets: {', '.join(targets) if targets else 'select other meshes'}")
+        layout.operator("mpeg4face.clone_motion", icon="DUPLICATE")
+
+
+_classes = (MPEG4FACE_PT_shape_keys, MPEG4FACE_PT_face_tables, MPEG4FACE_PT_cloning)
+register, unregister = bpy.utils.register_classes_factory(_classes)
