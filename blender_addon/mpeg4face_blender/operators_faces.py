@@ -36,22 +36,11 @@ _AMPLITUDE_LIMIT = 2**20  # far beyond any FAP's useful range; only keeps the fi
 # --- shape-key data -------------------------------------------------------------------------
 
 
-def key_coords(key: bpy.types.ShapeKey) -> np.ndarray:
-    """A key's positions (object space, Blender's axes), shape (N, 3)."""
-    out = np.empty(len(key.data) * 3, dtype=np.float32)
-    key.data.foreach_get("co", out)
-    return out.reshape(-1, 3).astype(np.float64)
-
-
-def set_key_coords(key: bpy.types.ShapeKey, coords: np.ndarray) -> None:
-    key.data.foreach_set("co", np.asarray(coords, dtype=np.float32).ravel())
-
-
 def basis_coords(obj: bpy.types.Object) -> np.ndarray:
     """The Basis key's positions, or the mesh's when it has no shape keys."""
     keys = obj.data.shape_keys
     if keys is not None:
-        return key_coords(keys.reference_key)
+        return mesh_data.shape_key_coords(keys.reference_key)
     out = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
     obj.data.vertices.foreach_get("co", out)
     return out.reshape(-1, 3).astype(np.float64)
@@ -66,7 +55,7 @@ def add_key(obj: bpy.types.Object, name: str, coords: np.ndarray | None = None
     key = obj.shape_key_add(name=name, from_mix=False)
     key.relative_key = obj.data.shape_keys.reference_key
     if coords is not None:
-        set_key_coords(key, coords)
+        mesh_data.set_shape_key_coords(key, coords)
     set_slider_range(key)
     return key
 
@@ -89,8 +78,8 @@ def object_model(obj: bpy.types.Object, with_keys: bool) -> tuple[mpeg4face.Face
     shapes = {}
     keys = obj.data.shape_keys
     if with_keys and keys is not None:
-        basis = key_coords(keys.reference_key)
-        shapes = {k.name: fp_logic.to_standard_axes(key_coords(k) - basis)
+        basis = mesh_data.shape_key_coords(keys.reference_key)
+        shapes = {k.name: fp_logic.to_standard_axes(mesh_data.shape_key_coords(k) - basis)
                   for k in keys.key_blocks if k != keys.reference_key}
     return shape_keys.face_model(coords, index, fp_vertices, shapes), warnings
 
@@ -308,7 +297,7 @@ class MPEG4FACE_OT_map_shape_keys(bpy.types.Operator):
             if name in blocks:
                 self.report({"WARNING"}, f"{row.key}: {name} exists already, skipped")
                 continue
-            add_key(obj, name, key_coords(source))
+            add_key(obj, name, mesh_data.shape_key_coords(source))
             created.append(f"{row.key} -> {name}")
         if not created:
             self.report({"WARNING"}, "No shape key mapped")
@@ -347,7 +336,7 @@ class MPEG4FACE_OT_mirror_shape_key(bpy.types.Operator):
         basis = basis_coords(obj)
         partners = shape_keys.mirror_vertices(
             basis, fp_logic.mirror_tolerance(basis, self.tolerance))
-        displacement = shape_keys.mirror_displacements(key_coords(key) - basis, partners)
+        displacement = shape_keys.mirror_displacements(mesh_data.shape_key_coords(key) - basis, partners)
         add_key(obj, mirrored.name, basis + displacement)
         unmatched = np.flatnonzero(partners < 0)
         if len(unmatched):
@@ -438,7 +427,7 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
             keys = target.data.shape_keys
             existing = keys.key_blocks.get(name) if keys is not None else None
             if existing is not None:
-                set_key_coords(existing, basis + displacement)
+                mesh_data.set_shape_key_coords(existing, basis + displacement)
                 set_slider_range(existing)
                 replaced += 1
             else:

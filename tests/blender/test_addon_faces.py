@@ -11,7 +11,7 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 import mpeg4face  # noqa: E402
 
-from mpeg4face_blender import fp_logic, operators_faces  # noqa: E402
+from mpeg4face_blender import fp_logic, mesh_data, operators_faces  # noqa: E402
 
 OPERATORS = (
     "MPEG4FACE_OT_add_fap_shape_key", "MPEG4FACE_OT_map_shape_keys",
@@ -26,7 +26,7 @@ def keys_of(obj):
     keys = obj.data.shape_keys
     if keys is None:
         return {}
-    return {k.name: operators_faces.key_coords(k) for k in keys.key_blocks}
+    return {k.name: mesh_data.shape_key_coords(k) for k in keys.key_blocks}
 
 
 def assert_kept(before, after):
@@ -38,7 +38,7 @@ def assert_kept(before, after):
 
 def displacement(obj, name):
     keys = obj.data.shape_keys
-    return operators_faces.key_coords(keys.key_blocks[name]) - operators_faces.key_coords(
+    return mesh_data.shape_key_coords(keys.key_blocks[name]) - mesh_data.shape_key_coords(
         keys.reference_key)
 
 
@@ -50,9 +50,9 @@ def only_selected(obj):
 def sculpt(obj, name, vertices, offset):
     """Moves `vertices` of key `name` by `offset` (Blender's axes)."""
     key = obj.data.shape_keys.key_blocks[name]
-    coords = operators_faces.key_coords(key)
+    coords = mesh_data.shape_key_coords(key)
     coords[vertices] += offset
-    operators_faces.set_key_coords(key, coords)
+    mesh_data.set_shape_key_coords(key, coords)
 
 
 @pytest.fixture
