@@ -101,13 +101,15 @@ def set_shape_key_coords(block: bpy.types.ShapeKey, coords: np.ndarray) -> None:
     block.data.foreach_set("co", np.asarray(coords, dtype=np.float32).ravel())
 
 
-def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()) -> mpeg4face.FaceModel:
+def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
+               ) -> tuple[mpeg4face.FaceModel, list[str]]:
     """The mesh as a FaceModel (standard axes) with its feature points and the named shape
-    keys as morph targets (displacements from the reference key), for generate_face. Shape
-    keys are read from the mesh datablock, so the object should be in Object Mode."""
+    keys as morph targets (displacements from the reference key: the whole shape, whatever
+    key it is relative to), for generate_face and clone_face; and the FP_ group warnings.
+    Shape keys are read from the mesh datablock, so the object should be in Object Mode."""
     with face_bmesh(obj) as bm:
         coords = standard_coords(bm)
-        fp_vertices, _ = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
+        fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
         faces = coord_index(bm)
     targets = {}
     key = obj.data.shape_keys
@@ -115,7 +117,7 @@ def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()) -> mpeg4fa
         reference = shape_key_coords(key.reference_key)
         targets = {name: fp_logic.to_standard_axes(shape_key_coords(key.key_blocks[name]) - reference)
                    for name in shape_keys}
-    return fp_logic.face_model(coords, faces, fp_vertices, targets)
+    return fp_logic.face_model(coords, faces, fp_vertices, targets), warnings
 
 
 def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.FaceState:

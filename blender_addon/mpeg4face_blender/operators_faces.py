@@ -66,22 +66,12 @@ def set_slider_range(key: bpy.types.ShapeKey) -> None:
     key.slider_min = low
 
 
-def object_model(obj: bpy.types.Object, with_keys: bool) -> tuple[mpeg4face.FaceModel, list[str]]:
-    """The object as a FaceModel in the standard's axes: one mesh, the FP_ groups as
-    feature points and, with_keys, every key but the Basis as a morph target whose
-    displacement is key - Basis (the whole shape, whatever key it is relative to).
-    Also returns the FP_ group warnings."""
-    with mesh_data.face_bmesh(obj) as bm:
-        coords = mesh_data.standard_coords(bm)
-        index = mesh_data.coord_index(bm)
-        fp_vertices, warnings = fp_logic.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
-    shapes = {}
+def key_names(obj: bpy.types.Object) -> list[str]:
+    """Every shape key of the object but the Basis."""
     keys = obj.data.shape_keys
-    if with_keys and keys is not None:
-        basis = mesh_data.shape_key_coords(keys.reference_key)
-        shapes = {k.name: fp_logic.to_standard_axes(mesh_data.shape_key_coords(k) - basis)
-                  for k in keys.key_blocks if k != keys.reference_key}
-    return shape_keys.face_model(coords, index, fp_vertices, shapes), warnings
+    if keys is None:
+        return []
+    return [k.name for k in keys.key_blocks if k != keys.reference_key]
 
 
 def generate(obj: bpy.types.Object, threshold: float
@@ -89,7 +79,7 @@ def generate(obj: bpy.types.Object, threshold: float
     """generate_face on the object's keys: the face and its report (with the FP_ group
     warnings); raises mpeg4face.Error with the core's reason (e.g. "MNS0 is not measured:
     needs 9.15 and 2.2")."""
-    model, group_warnings = object_model(obj, with_keys=True)
+    model, group_warnings = mesh_data.face_model(obj, key_names(obj))
     generated = mpeg4face.generate_face(model, threshold)
     return generated["face"], shape_keys.tables_report(generated, group_warnings)
 
@@ -395,14 +385,14 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
             self.report({"ERROR"}, "Select the target meshes, then the source head last "
                         "(active)")
             return {"CANCELLED"}
-        source_model, _ = object_model(source, with_keys=True)
+        source_model, _ = mesh_data.face_model(source, key_names(source))
 
         def work(update: Callable[[float], None]) -> int:
             done = 0
             for i, target in enumerate(targets):
                 if not has_feature_points(self, target):  # reported; the others go on
                     continue
-                target_model, _ = object_model(target, with_keys=False)
+                target_model, _ = mesh_data.face_model(target)
                 try:
                     cloned = mpeg4face.clone_face(
                         source_model, target_model,

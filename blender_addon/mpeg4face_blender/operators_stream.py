@@ -182,7 +182,8 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
     alone (show_only_shape_key), so the Basis and the other keys are never changed.
     Returns generate_face's warnings; raises mpeg4face.Error for a face it refuses."""
     stop_live(obj)
-    generated = mpeg4face.generate_face(mesh_data.face_model(obj, [k.name for k in keys.keys]))
+    model, _ = mesh_data.face_model(obj, [k.name for k in keys.keys])
+    generated = mpeg4face.generate_face(model)
     state = LiveState(mpeg4face.FatEvaluator(generated["face"]), stream, start,
                       (obj.show_only_shape_key, obj.active_shape_key_index))
     obj.shape_key_add(name=LIVE_KEY, from_mix=False)

@@ -1,11 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """FAP shape keys without bpy, testable with plain pytest: key names in the grammar of
 docs/fat.md, slider ranges, suggestions for keys named otherwise, left/right partner FAPs,
-mirroring displacements across X = 0, and the FaceModel / report of "Generate
+mirroring displacements across X = 0, and the report of "Generate
 FaceDefTables" and cloning.
 
 Displacements handed in for models are in the standard's axes (fp_logic.to_standard_axes);
-from_standard_axes turns the core's answers back into Blender's.
+fp_logic.to_blender_axes turns the core's answers back into Blender's.
 """
 
 from __future__ import annotations
@@ -30,12 +30,6 @@ KINDS = ("FAP", "VISEME", "EXPRESSION")
 DEFAULT_AMPLITUDE = 1024
 FULL_INTENSITY = 63  # the largest expression intensity; a viseme is always this amount
 FIRST_LOW_LEVEL_FAP = 3  # FAP 1 and 2 are the viseme and the expression
-
-
-def from_standard_axes(coords: npt.ArrayLike) -> Array:
-    """The inverse of fp_logic.to_standard_axes: (x, y, z) -> (x, -z, y)."""
-    c = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
-    return np.column_stack((c[:, 0], -c[:, 2], c[:, 1]))
 
 
 # --- names ----------------------------------------------------------------------------------
@@ -274,17 +268,6 @@ def mirror_displacements(displacements: npt.ArrayLike, partners: np.ndarray) -> 
 # --- FaceDefTables --------------------------------------------------------------------------
 
 
-def face_model(coords: npt.ArrayLike, coord_index: npt.ArrayLike,
-               fp_vertices: Mapping[str, int],
-               shapes: Mapping[str, npt.ArrayLike] | None = None) -> mpeg4face.FaceModel:
-    """fp_logic.face_model with the shape keys as morph targets: key name -> displacement
-    from the basis (standard axes)."""
-    model = fp_logic.face_model(coords, coord_index, fp_vertices)
-    model.meshes[0].morph_targets = [mpeg4face.MorphTarget(name, d)
-                                     for name, d in (shapes or {}).items()]
-    return model
-
-
 def table_title(fap: int, select: int) -> str:
     """fap3 open_jaw, viseme 1 (p, b, m), expression 1 (joy)."""
     if fap == 1:
@@ -328,4 +311,4 @@ def tables_report(generated: Mapping[str, object], group_warnings: Sequence[str]
 
 def cloned_shapes(copies: Sequence[Mapping[str, object]]) -> dict[str, Array]:
     """clone_face's copies as key name -> displacement in Blender's axes (one mesh)."""
-    return {c["name"]: from_standard_axes(c["displacements"][0]) for c in copies}
+    return {c["name"]: fp_logic.to_blender_axes(c["displacements"][0]) for c in copies}
