@@ -58,25 +58,16 @@ py::dict tableSummary(const FaceDefTables& t) {
   return d;
 }
 
-// A cloned copy as what Blender makes a shape key of: dense per-mesh displacements.
-py::dict clonedCopy(const CloneResult& result, std::size_t index) {
-  const ClonedCopy& c = result.copies[index];
-  py::dict d("name"_a = toPy(c.name), "fap"_a = c.fapID,
-             "select"_a = c.fapID <= 2 ? c.highLevelSelect : 0, "amplitude"_a = c.amplitude);
-  std::vector<Points3> dense;
-  for (const IndexedFaceSet& mesh : result.targetNeutral.meshes) {
-    dense.push_back(Points3::Zero(mesh.coord.rows(), 3));
-  }
-  for (const MeshDisplacement& m : c.meshes) {
-    for (std::size_t k = 0; k < m.vertices.size(); ++k) {
-      dense[static_cast<std::size_t>(m.mesh)].row(m.vertices[k]) =
-          m.displacement.row(static_cast<Eigen::Index>(k));
-    }
-  }
+// A cloned copy as what Blender makes a shape key of: per-mesh displacements from the
+// target's neutral.
+py::dict clonedCopy(const DeformedCopy& copy, const FaceModel& neutral) {
   py::list meshes;
-  for (const Points3& p : dense) meshes.append(pointsToNumpy(p));
-  d["displacements"] = meshes;
-  return d;
+  for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
+    meshes.append(pointsToNumpy(copy.model.meshes[m].coord - neutral.meshes[m].coord));
+  }
+  return py::dict("name"_a = toPy(copy.name), "fap"_a = copy.fapID,
+                  "select"_a = copy.fapID <= 2 ? copy.highLevelSelect : 0,
+                  "amplitude"_a = copy.amplitude, "displacements"_a = meshes);
 }
 
 // The source of a clone: a FaceModel with shape keys in the grammar, or an MpegFace.
@@ -147,20 +138,14 @@ void bindMpegFace(py::module_& m) {
       "generate_face",
       [](py::handle model, double threshold, std::optional<double> absoluteThreshold) {
         const FaceModel core = toCore(asFaceModel(model, "generate_face"));
-        MpegFace face;
-        GeneratedTables tables;
-        ShapeKeyCopies keys;
+        ShapeKeyFace generated;
         {
           py::gil_scoped_release release;
-          keys = deformedCopiesFromShapeKeys(core);
-          face.faceSceneGraph = neutralFaceModel(core);
-          tables = generateFaceDefTables(face.faceSceneGraph, measureFapu(face.faceSceneGraph),
-                                         keys.copies, {threshold, absoluteThreshold});
-          face.faceDefTables = std::move(tables.faceDefTables);
+          generated = faceFromShapeKeys(core, {threshold, absoluteThreshold});
         }
-        return py::dict("face"_a = std::move(face), "copies"_a = keys.copies.size(),
-                        "warnings"_a = stringList(tables.warnings),
-                        "ignored"_a = stringList(keys.ignored));
+        return py::dict("face"_a = std::move(generated.face), "copies"_a = generated.copies,
+                        "warnings"_a = stringList(generated.warnings),
+                        "ignored"_a = stringList(generated.ignored));
       },
       "model"_a, "threshold"_a = 0.01, "absolute_threshold"_a = py::none(),
       "FaceDefTables from a model's morph targets named in the shape-key grammar "
@@ -271,20 +256,16 @@ void bindClone(py::module_& m) {
             progress(std::string(stage), fraction);
           };
         }
-        CloneResult result;
-        MpegFace face;
+        ClonedFace result;
         {
           py::gil_scoped_release release;
-          result = cloneDeformedCopies(sourceNeutral, copies, targetNeutral, options);
-          face.faceSceneGraph = result.targetNeutral;
-          face.faceDefTables =
-              generateFaceDefTables(face.faceSceneGraph, measureFapu(face.faceSceneGraph),
-                                    deformedCopies(result))
-                  .faceDefTables;
+          result = cloneFace(sourceNeutral, copies, targetNeutral, options);
         }
         py::list cloned;
-        for (std::size_t i = 0; i < result.copies.size(); ++i) cloned.append(clonedCopy(result, i));
-        return py::dict("face"_a = std::move(face), "copies"_a = cloned,
+        for (const DeformedCopy& copy : result.copies) {
+          cloned.append(clonedCopy(copy, result.face.faceSceneGraph));
+        }
+        return py::dict("face"_a = std::move(result.face), "copies"_a = cloned,
                         "warnings"_a = stringList(result.warnings));
       },
       "source"_a, "target"_a, "filter_support"_a = 0.02, "adaptive_filter"_a = true,

@@ -5,8 +5,6 @@
 // and a stream is changed as a whole (FapStream.from_arrays).
 #include <pybind11/stl/filesystem.h>
 
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -304,24 +302,9 @@ void bindFiles(py::module_& m) {
       "write_fap", [](const FapStream& stream, const Path& path) { writeFapFile(path, stream); },
       "stream"_a, "path"_a, "Writes a .fap file (through a temporary file: all or nothing).",
       py::call_guard<py::gil_scoped_release>());
-  m.def(
-      "read_fap_stream",
-      [](const Path& path) {
-        std::string ext = path.extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(),
-                       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-        py::gil_scoped_release release;
-        if (ext == ".fap") return readFapFile(path);
-        if (ext != ".fba") {
-          throw Error(path.string(), 0, "", "expected a .fap or .fba file");
-        }
-        const std::string bytes = readFile(path);
-        FapStream s = decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()},
-                                path.string());
-        s.name = path.stem().string();
-        return s;
-      },
-      "path"_a, "Reads a .fap file or decodes a .fba file (named after the file).");
+  m.def("read_fap_stream", &readFapStream, "path"_a,
+        "Reads a .fap file or decodes a .fba file (named after the file).",
+        py::call_guard<py::gil_scoped_release>());
 }
 
 void bindSpeech(py::module_& m) {

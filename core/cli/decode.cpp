@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mpeg4face decode`: an FBA bitstream back to a .fap stream.
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -10,7 +9,6 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fba_codec.hpp"
-#include "mpeg4face/file_io.hpp"
 #include "mpeg4face/fit.hpp"
 
 namespace mpeg4face::cli {
@@ -35,10 +33,7 @@ int runDecode(const std::vector<std::string>& args) {
 
   const std::optional<FitTable> table =
       fit.empty() ? std::nullopt : std::optional(readFitTableFile(fit));
-  const std::string bytes = readFile(input);
-  FapStream stream =
-      decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, input);
-  stream.name = std::filesystem::path(input).stem().string();  // the bitstream has no name
+  FapStream stream = readFbaFile(input);
   if (table) {
     try {
       const int computed = interpolateFitStream(*table, stream);

@@ -93,22 +93,18 @@ int runFat(const std::vector<std::string>& rawArgs) {
     for (auto& [id, binding] : csv.featurePoints) model.featurePoints[id] = binding;
     warnings = std::move(csv.warnings);
   }
-  const ShapeKeyCopies keys = deformedCopiesFromShapeKeys(model);
-  if (keys.copies.empty()) {
+  GeneratorOptions options;
+  if (args.threshold) options.threshold = *args.threshold;
+  ShapeKeyFace generated = faceFromShapeKeys(model, options);
+  if (generated.copies == 0) {
     throw Error(head, 0, "morph targets",
                 "no morph target is named as a FAP, viseme or expression (e.g. "
                 "fap3_open_jaw@512; grammar in docs/fat.md)");
   }
-  // The basis scene graph is the neutral face: the targets are what the tables replace.
-  FaceModel neutral = neutralFaceModel(model);
-  const FapuMeasurement fapu = measureFapu(neutral);
-  GeneratorOptions options;
-  if (args.threshold) options.threshold = *args.threshold;
-  GeneratedTables generated = generateFaceDefTables(neutral, fapu, keys.copies, options);
-  const MpegFace face{std::move(neutral), std::move(generated.faceDefTables)};
+  const MpegFace& face = generated.face;
   writeVrml(face, args.output);
 
-  std::printf("%s: %zu shape keys -> %zu tables\n", head.c_str(), keys.copies.size(),
+  std::printf("%s: %zu shape keys -> %zu tables\n", head.c_str(), generated.copies,
               face.faceDefTables.size());
   for (const FaceDefTables& t : face.faceDefTables) {
     size_t vertices = 0;
@@ -124,7 +120,7 @@ int runFat(const std::vector<std::string>& rawArgs) {
                 t.faceDefMesh.empty() ? size_t{0} : t.faceDefMesh[0].intervalBorders.size() - 1,
                 intervals.c_str(), vertices, t.faceDefTransform.size());
   }
-  for (const std::string& name : keys.ignored) {
+  for (const std::string& name : generated.ignored) {
     warnings.push_back("morph target '" + name + "' is not a FAP, viseme or expression: ignored");
   }
   warnings.insert(warnings.end(), generated.warnings.begin(), generated.warnings.end());

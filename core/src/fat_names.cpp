@@ -199,4 +199,18 @@ ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model) {
   return out;
 }
 
+ShapeKeyFace faceFromShapeKeys(const FaceModel& model, const GeneratorOptions& options) {
+  ShapeKeyCopies keys = deformedCopiesFromShapeKeys(model);
+  ShapeKeyFace out;
+  // The basis scene graph is the neutral face: the targets are what the tables replace.
+  out.face.faceSceneGraph = neutralFaceModel(model);
+  GeneratedTables generated = generateFaceDefTables(
+      out.face.faceSceneGraph, measureFapu(out.face.faceSceneGraph), keys.copies, options);
+  out.face.faceDefTables = std::move(generated.faceDefTables);
+  out.copies = keys.copies.size();
+  out.warnings = std::move(generated.warnings);
+  out.ignored = std::move(keys.ignored);
+  return out;
+}
+
 }  // namespace mpeg4face

@@ -12,6 +12,7 @@
 #include "fba_predictive.hpp"
 #include "fba_syntax.hpp"
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/file_io.hpp"
 
 namespace mpeg4face {
 namespace {
@@ -215,6 +216,14 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
   }
   if (rate) stream.frameRate = *rate;
   if (pca) stream.frames = fba::reconstructPca(*pca, stream.frames, source);
+  return stream;
+}
+
+FapStream readFbaFile(const std::filesystem::path& path) {
+  const std::string bytes = readFile(path);
+  FapStream stream =
+      decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, path.string());
+  stream.name = path.stem().string();
   return stream;
 }
 

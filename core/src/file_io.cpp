@@ -8,6 +8,8 @@
 #include <system_error>
 
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/fap_file.hpp"
+#include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/obj.hpp"
 #include "mpeg4face/vrml.hpp"
@@ -15,6 +17,13 @@
 
 namespace mpeg4face {
 namespace {
+
+std::string lowerCaseExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
 
 // A folder opens as an empty stream and has no extension: name the real problem instead.
 void rejectFolder(const std::filesystem::path& path) {
@@ -59,15 +68,20 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& c
 
 FaceModel readModel(const std::filesystem::path& path) {
   rejectFolder(path);
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = lowerCaseExtension(path);
   if (ext == ".gltf" || ext == ".glb") return readGltf(path);
   if (ext == ".obj") return readObj(path);
   if (ext == ".wfm") return candideToFaceModel(readWfm(path));
   if (ext == ".wrl") return readVrml(path).faceSceneGraph;
   throw Error(path.string(), 0, {},
               "unknown model format '" + ext + "' (expected .gltf, .glb, .obj, .wfm or .wrl)");
+}
+
+FapStream readFapStream(const std::filesystem::path& path) {
+  const std::string ext = lowerCaseExtension(path);
+  if (ext == ".fap") return readFapFile(path);
+  if (ext == ".fba") return readFbaFile(path);
+  throw Error(path.string(), 0, {}, "expected a .fap or .fba file");
 }
 
 }  // namespace mpeg4face

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "mpeg4face/error.hpp"
+#include "text_reader.hpp"
 
 namespace mpeg4face {
 namespace {
@@ -166,6 +167,7 @@ FapStream visemeStream(std::span<const TimedPhone> phones, double frameRate,
 
 MarkedText parseBookmarks(std::string_view text) {
   MarkedText out;
+  std::size_t words = 0, counted = 0;  // the words of out.text[0, counted)
   std::size_t i = 0;
   while (i < text.size()) {
     if (text[i] == '>') {
@@ -199,29 +201,25 @@ MarkedText parseBookmarks(std::string_view text) {
     }
     if (!token.empty()) tokens.push_back(std::move(token));
     if (tokens.empty() || tokens[0] != "FAP") fail("a bookmark must start with FAP");
-    std::vector<long long> numbers;
+    std::vector<int> numbers;
     for (std::size_t k = 1; k < tokens.size(); ++k) {
-      std::size_t used = 0;
-      long long v = 0;
-      try {
-        v = std::stoll(tokens[k], &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != tokens[k].size() || used == 0) fail("'" + tokens[k] + "' is not a whole number");
+      int v = 0;
+      if (!text::tryParseInt(tokens[k], v)) fail("'" + tokens[k] + "' is not a whole number");
       numbers.push_back(v);
     }
     if (numbers.empty()) fail("no FAP number");
     Bookmark b;
     b.position = open;
-    b.word = static_cast<int>(speechWords(out.text).size());
-    const long long fap = numbers[0];
-    const auto range = [&](long long v, long long lo, long long hi, const char* what) {
+    // The text before the last bookmark ends in the ' ' it left: no word runs across it.
+    words += speechWords(std::string_view(out.text).substr(counted)).size();
+    b.word = static_cast<int>(words);
+    const int fap = numbers[0];
+    const auto range = [&](int v, int lo, int hi, const char* what) {
       if (v < lo || v > hi) {
         fail(std::string(what) + " " + std::to_string(v) + " is outside " + std::to_string(lo) +
              ".." + std::to_string(hi));
       }
-      return static_cast<int>(v);
+      return v;
     };
     std::size_t rest = 0;
     if (fap == 2) {
@@ -243,11 +241,12 @@ MarkedText parseBookmarks(std::string_view text) {
     } else {
       fail("FAP " + std::to_string(fap) + " does not exist");
     }
-    b.fap = static_cast<int>(fap);
+    b.fap = fap;
     b.duration = range(numbers[rest], 0, 3600000, "the duration (ms)") / 1000.0;
     b.curve = static_cast<TimeCurve>(range(numbers[rest + 1], 1, 3, "the time curve"));
     out.bookmarks.push_back(b);
     out.text += ' ';  // a bookmark separates words
+    counted = out.text.size();
     i = close + 1;
   }
   return out;
@@ -268,13 +267,15 @@ double timeCurveValue(TimeCurve curve, double s) {
 
 void applyBookmarks(FapStream& stream, std::span<const Bookmark> bookmarks,
                     const SynthesizedSpeech& speech) {
-  const double end = speech.phones.empty() ? 0 : speech.phones.back().end;
-  const auto startOf = [&](int word) {
-    for (const TimedPhone& p : speech.phones) {
-      if (p.word >= word) return p.start;
-    }
-    return end;
-  };
+  // Each bookmark's start: the first phone of its word, the end of the speech if none.
+  std::vector<double> starts;
+  for (const Bookmark& b : bookmarks) {
+    const auto first = std::find_if(speech.phones.begin(), speech.phones.end(),
+                                    [&](const TimedPhone& p) { return p.word >= b.word; });
+    starts.push_back(first != speech.phones.end() ? first->start
+                     : speech.phones.empty()      ? 0.0
+                                                  : speech.phones.back().end);
+  }
   // Per track (a low-level FAP, or the expression's two intensities), the transitions in
   // time order; a value at time t is the last started transition's.
   struct Transition {
@@ -295,12 +296,11 @@ void applyBookmarks(FapStream& stream, std::span<const Bookmark> bookmarks,
   std::vector<std::pair<double, Expression>> selects;
   std::vector<std::size_t> order(bookmarks.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return startOf(bookmarks[a].word) < startOf(bookmarks[b].word);
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return starts[a] < starts[b]; });
   for (std::size_t k : order) {
     const Bookmark& b = bookmarks[k];
-    const double t0 = startOf(b.word);
+    const double t0 = starts[k];
     const auto add = [&](int track, double target, bool sameSelect) {
       auto& list = tracks[track];
       const double from = sameSelect ? valueAt(list, t0).value_or(0.0) : 0.0;
@@ -317,16 +317,16 @@ void applyBookmarks(FapStream& stream, std::span<const Bookmark> bookmarks,
   }
   for (FapFrame& frame : stream.frames) {
     const double t = frameTime(stream, frame);
+    const Expression* current = nullptr;  // the selects of the last expression started
+    for (const auto& [start, e] : selects) {
+      if (start <= t) current = &e;
+    }
     for (const auto& [track, list] : tracks) {
       const std::optional<double> v = valueAt(list, t);
       if (!v) continue;
       if (track > 0) {
         frame.set(track, static_cast<int>(std::lround(*v)));
         continue;
-      }
-      const Expression* current = nullptr;
-      for (const auto& [start, e] : selects) {
-        if (start <= t) current = &e;
       }
       if (current == nullptr) continue;
       frame.set(2, 0);

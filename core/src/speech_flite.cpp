@@ -6,13 +6,12 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <charconv>
-#include <cmath>
 #include <cstring>
 #include <sstream>
 
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/speech.hpp"
+#include "text_reader.hpp"
 
 extern char** environ;
 
@@ -72,10 +71,8 @@ std::vector<TimedPhone> parseFlitePhones(std::string_view output, const std::str
   for (const std::string& t : tokens(std::string(output))) {
     const std::size_t colon = t.rfind(':');
     double end = 0;
-    const char* last = t.data() + t.size();
     if (colon == std::string::npos ||
-        std::from_chars(t.data() + colon + 1, last, end).ptr != last || !std::isfinite(end) ||
-        end < start) {
+        !text::tryParseDouble(std::string_view(t).substr(colon + 1), end) || end < start) {
       throw Error(program, 0, "speech",
                   "unreadable phone timing '" + t + "' (phone:end, ends in time order)");
     }

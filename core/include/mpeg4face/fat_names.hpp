@@ -50,4 +50,14 @@ struct ShapeKeyCopies {
 // mpeg4face::Error for a malformed name (see parseShapeKeyName), naming the mesh.
 ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model);
 
+// A face from a model with shape keys: its neutral (neutralFaceModel) with the FaceDefTables
+// generateFaceDefTables makes from its shape keys in the grammar, the FAPU measured on it.
+struct ShapeKeyFace {
+  MpegFace face;
+  std::size_t copies = 0;             // the shape keys in the grammar, made into tables
+  std::vector<std::string> warnings;  // generateFaceDefTables'
+  std::vector<std::string> ignored;   // shape keys not in the grammar
+};
+ShapeKeyFace faceFromShapeKeys(const FaceModel& model, const GeneratorOptions& options = {});
+
 }  // namespace mpeg4face

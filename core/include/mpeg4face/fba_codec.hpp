@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -80,5 +81,8 @@ struct FbaDecodeLimits {
 // limits.
 FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source = {},
                     const FbaDecodeLimits& limits = {});
+// A .fba file decoded (errors name the file); the stream is named after the file, since the
+// bitstream carries no name.
+FapStream readFbaFile(const std::filesystem::path& path);
 
 }  // namespace mpeg4face

@@ -9,11 +9,15 @@
 #include <vector>
 
 #include "mpeg4face/face_model.hpp"
+#include "mpeg4face/fap_stream.hpp"
 
 namespace mpeg4face {
 
 // Any supported model by extension: .gltf, .glb, .obj, .wfm, .wrl (the faceSceneGraph).
 FaceModel readModel(const std::filesystem::path& path);
+
+// A FAP stream by extension: .fap (readFapFile) or .fba (readFbaFile).
+FapStream readFapStream(const std::filesystem::path& path);
 
 // Writes `contents` via a temporary file in the same folder and a rename.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& contents);
