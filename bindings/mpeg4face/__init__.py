@@ -75,6 +75,7 @@ __all__ = [
     "FeaturePointBinding",
     "MorphWeightChannel",
     "MorphWeightAnimation",
+    "TransformChannel",
     "FaceModel",
     # files
     "CandideUnit",

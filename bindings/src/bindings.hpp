@@ -105,9 +105,18 @@ struct PyMorphWeightChannel {
   py::array_t<double> weights = emptyVector();
 };
 
+struct PyTransformChannel {
+  int transform = 0;
+  TransformChannel::Path path = TransformChannel::Path::Rotation;
+  MorphWeightChannel::Interpolation interpolation = MorphWeightChannel::Interpolation::Linear;
+  py::array_t<double> times = emptyVector();
+  py::array_t<double> values = emptyVector();
+};
+
 struct PyMorphWeightAnimation {
   std::string name;
-  py::list channels;  // of MorphWeightChannel
+  py::list channels;           // of MorphWeightChannel
+  py::list transformChannels;  // of TransformChannel
 };
 
 struct PyFaceModel {

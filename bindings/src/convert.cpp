@@ -166,6 +166,16 @@ MorphWeightChannel toCore(const PyMorphWeightChannel& channel, const std::string
   return out;
 }
 
+TransformChannel toCore(const PyTransformChannel& channel, const std::string& where) {
+  TransformChannel out;
+  out.transform = channel.transform;
+  out.path = channel.path;
+  out.interpolation = channel.interpolation;
+  out.times = vectorToCore(channel.times, where + ".times");
+  out.values = vectorToCore(channel.values, where + ".values");
+  return out;
+}
+
 PyMesh fromCore(IndexedFaceSet&& mesh) {
   PyMesh out;
   out.name = std::move(mesh.name);
@@ -414,6 +424,12 @@ FaceModel toCore(const PyFaceModel& model, Depth depth) {
       a.channels.push_back(
           toCore(itemAs<PyMorphWeightChannel>(channel, where, "MorphWeightChannel"), where));
     }
+    c = 0;
+    for (py::handle channel : animation.transformChannels) {
+      const std::string where = indexed(field + ".transform_channels", c++);
+      a.transformChannels.push_back(
+          toCore(itemAs<PyTransformChannel>(channel, where, "TransformChannel"), where));
+    }
     out.animations.push_back(std::move(a));
   }
   return out;
@@ -453,6 +469,15 @@ PyFaceModel fromCore(FaceModel&& model) {
       c.times = vectorFromCore(channel.times);
       c.weights = vectorFromCore(channel.weights);
       a.channels.append(py::cast(std::move(c)));
+    }
+    for (const TransformChannel& channel : animation.transformChannels) {
+      PyTransformChannel c;
+      c.transform = channel.transform;
+      c.path = channel.path;
+      c.interpolation = channel.interpolation;
+      c.times = vectorFromCore(channel.times);
+      c.values = vectorFromCore(channel.values);
+      a.transformChannels.append(py::cast(std::move(c)));
     }
     out.animations.append(py::cast(std::move(a)));
   }

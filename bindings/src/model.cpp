@@ -277,24 +277,70 @@ void bindAnimation(py::module_& m) {
            std::to_string(c.times.shape(0)) + " keys>";
   });
 
-  py::class_<PyMorphWeightAnimation> animation(m, "MorphWeightAnimation",
-                                               "A named animation of morph weights.");
-  animation.def(py::init([](std::string name, py::object channels) {
+  py::class_<PyTransformChannel> transformChannel(
+      m, "TransformChannel",
+      "glTF-style keyframes of one Transform's translation, rotation or scale.");
+  py::enum_<TransformChannel::Path>(transformChannel, "Path", "The animated field.")
+      .value("TRANSLATION", TransformChannel::Path::Translation)
+      .value("ROTATION", TransformChannel::Path::Rotation)
+      .value("SCALE", TransformChannel::Path::Scale);
+  transformChannel.def(
+      py::init([](py::handle transform, TransformChannel::Path path,
+                  MorphWeightChannel::Interpolation interpolation, py::object times,
+                  py::object values) {
+        PyTransformChannel c;
+        c.transform = checkedInt(transform, "TransformChannel.transform");
+        c.path = path;
+        c.interpolation = interpolation;
+        setIfGiven(c, &PyTransformChannel::times, times, "TransformChannel.times", checkedVector);
+        setIfGiven(c, &PyTransformChannel::values, values, "TransformChannel.values",
+                   checkedVector);
+        return c;
+      }),
+      "transform"_a = 0, "path"_a = TransformChannel::Path::Rotation,
+      "interpolation"_a = MorphWeightChannel::Interpolation::Linear, "times"_a = py::none(),
+      "values"_a = py::none());
+  transformChannel.def_readwrite("transform", &PyTransformChannel::transform,
+                                 "Index into FaceModel.transforms.");
+  transformChannel.def_readwrite("path", &PyTransformChannel::path, "TransformChannel.Path.");
+  transformChannel.def_readwrite("interpolation", &PyTransformChannel::interpolation,
+                                 "MorphWeightChannel.Interpolation.");
+  storedProperty(transformChannel, "times", &PyTransformChannel::times, checkedVector,
+                 "1-D float64 key times in seconds, increasing.");
+  storedProperty(transformChannel, "values", &PyTransformChannel::values, checkedVector,
+                 "1-D float64: per key x y z (translation, scale) or the quaternion x y z w "
+                 "(rotation); x3 for CUBICSPLINE (in-tangent, value, out-tangent).");
+  transformChannel.def("__repr__", [](const PyTransformChannel& c) {
+    return "<TransformChannel transform=" + std::to_string(c.transform) + ": " +
+           std::to_string(c.times.shape(0)) + " keys>";
+  });
+
+  py::class_<PyMorphWeightAnimation> animation(
+      m, "MorphWeightAnimation",
+      "A named animation of morph weights and Transform fields (glTF's animation).");
+  animation.def(py::init([](std::string name, py::object channels, py::object transformChannels) {
                   PyMorphWeightAnimation a;
                   a.name = std::move(name);
                   setIfGiven(a, &PyMorphWeightAnimation::channels, channels,
                              "MorphWeightAnimation.channels",
                              objects<PyMorphWeightChannel>("MorphWeightChannel"));
+                  setIfGiven(a, &PyMorphWeightAnimation::transformChannels, transformChannels,
+                             "MorphWeightAnimation.transform_channels",
+                             objects<PyTransformChannel>("TransformChannel"));
                   return a;
                 }),
-                "name"_a = "", "channels"_a = py::none());
+                "name"_a = "", "channels"_a = py::none(), "transform_channels"_a = py::none());
   nameProperty(animation, "Animation name.");
   storedProperty(animation, "channels", &PyMorphWeightAnimation::channels,
                  objects<PyMorphWeightChannel>("MorphWeightChannel"),
                  "list of MorphWeightChannel, one per animated mesh.");
+  storedProperty(animation, "transform_channels", &PyMorphWeightAnimation::transformChannels,
+                 objects<PyTransformChannel>("TransformChannel"),
+                 "list of TransformChannel. In the shape-key grammar's name (docs/fat.md) an "
+                 "animation is a pose: generate_face takes the values of its last keys.");
   animation.def("__repr__", [](const PyMorphWeightAnimation& a) {
     return "<MorphWeightAnimation " + quoted(a.name) + ": " + std::to_string(a.channels.size()) +
-           " channels>";
+           " channels, " + std::to_string(a.transformChannels.size()) + " transform channels>";
   });
 }
 

@@ -160,43 +160,112 @@ std::string formatShapeKeyName(const ShapeKeyName& key) {
   return out;
 }
 
+namespace {
+
+// The value a transform channel ends on: its last key (the value, for CubicSpline, between
+// the in- and out-tangents). Throws naming `field` for a channel that does not fit the model.
+Eigen::VectorXd finalValue(const TransformChannel& channel, const FaceModel& model,
+                           const std::string& field) {
+  if (channel.transform < 0 || channel.transform >= static_cast<int>(model.transforms.size())) {
+    throw Error({}, 0, field,
+                "transform " + std::to_string(channel.transform) + " out of range (the model has " +
+                    std::to_string(model.transforms.size()) + ")");
+  }
+  const std::size_t width = channel.path == TransformChannel::Path::Rotation ? 4 : 3;
+  const std::size_t keys = channel.times.size();
+  const bool spline = channel.interpolation == MorphWeightChannel::Interpolation::CubicSpline;
+  if (keys == 0 || channel.values.size() != keys * width * (spline ? 3 : 1)) {
+    throw Error({}, 0, field,
+                std::to_string(channel.values.size()) + " values for " + std::to_string(keys) +
+                    " keys (expected " + std::to_string(width) + " a key" +
+                    (spline ? ", x3 for CUBICSPLINE)" : ")"));
+  }
+  const std::size_t start = (spline ? 3 * (keys - 1) + 1 : keys - 1) * width;
+  return Eigen::Map<const Eigen::VectorXd>(channel.values.data() + start,
+                                           static_cast<Eigen::Index>(width));
+}
+
+// Our names, their copies and the names that are not ours, collected from morph targets
+// and animations alike.
+class CopyCollector {
+ public:
+  explicit CopyCollector(const FaceModel& model) : basis_(neutralFaceModel(model)) {}
+
+  // The copy named `name`, made from the basis on first use; nullptr for a name that is not
+  // ours (remembered as ignored). `field` names the name's place for a malformed one.
+  DeformedCopy* copy(const std::string& name, const std::string& field) {
+    std::optional<ShapeKeyName> key;
+    try {
+      key = parseShapeKeyName(name);
+    } catch (const Error& e) {
+      throw Error({}, 0, field, e.reason());
+    }
+    if (!key) {
+      if (ignored_.insert(name).second) out.ignored.push_back(name);
+      return nullptr;
+    }
+    auto [it, added] = copyOf_.try_emplace(name, out.copies.size());
+    if (added) {
+      DeformedCopy& copy = out.copies.emplace_back();
+      copy.name = name;
+      copy.fapID = key->fapID;
+      copy.highLevelSelect = key->highLevelSelect;
+      copy.amplitude = key->amplitude;
+      copy.model = basis_;
+    }
+    return &out.copies[it->second];
+  }
+
+  ShapeKeyCopies out;
+
+ private:
+  FaceModel basis_;
+  std::map<std::string, std::size_t> copyOf_;
+  std::set<std::string> ignored_;
+};
+
+}  // namespace
+
 ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model) {
   model.validate();
-  const FaceModel basis = neutralFaceModel(model);
-  ShapeKeyCopies out;
-  std::map<std::string, std::size_t> copyOf;
-  std::set<std::string> ignored;
+  CopyCollector collector(model);
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {
     const IndexedFaceSet& mesh = model.meshes[m];
     std::set<std::string> onThisMesh;
     for (const MorphTarget& target : mesh.morphTargets) {
       const std::string field = "mesh '" + mesh.name + "' morph target " + text::quote(target.name);
-      std::optional<ShapeKeyName> key;
-      try {
-        key = parseShapeKeyName(target.name);
-      } catch (const Error& e) {
-        throw Error({}, 0, field, e.reason());
-      }
-      if (!key) {
-        if (ignored.insert(target.name).second) out.ignored.push_back(target.name);
-        continue;
-      }
+      DeformedCopy* copy = collector.copy(target.name, field);
+      if (copy == nullptr) continue;
       if (!onThisMesh.insert(target.name).second) {
         throw Error({}, 0, field, "appears twice on this mesh");
       }
-      auto [it, added] = copyOf.try_emplace(target.name, out.copies.size());
-      if (added) {
-        DeformedCopy& copy = out.copies.emplace_back();
-        copy.name = target.name;
-        copy.fapID = key->fapID;
-        copy.highLevelSelect = key->highLevelSelect;
-        copy.amplitude = key->amplitude;
-        copy.model = basis;
-      }
-      out.copies[it->second].model.meshes[m].coord += target.displacements;
+      copy->model.meshes[m].coord += target.displacements;
     }
   }
-  return out;
+  // A pose: the transforms an animation of our name ends on (eyes, jaw, head as objects or
+  // bones), joining the copy of the morph targets of that name if there are any.
+  for (const MorphWeightAnimation& animation : model.animations) {
+    if (animation.transformChannels.empty()) continue;
+    const std::string field = "animation " + text::quote(animation.name);
+    DeformedCopy* copy = collector.copy(animation.name, field);
+    if (copy == nullptr) continue;
+    for (const TransformChannel& channel : animation.transformChannels) {
+      const Eigen::VectorXd v = finalValue(channel, model, field);
+      Transform& t = copy->model.transforms[static_cast<std::size_t>(channel.transform)];
+      switch (channel.path) {
+        case TransformChannel::Path::Translation:
+          t.translation = v;
+          break;
+        case TransformChannel::Path::Scale:
+          t.scale = v;
+          break;
+        case TransformChannel::Path::Rotation:
+          t.rotation = Eigen::Quaterniond(v[3], v[0], v[1], v[2]).normalized();
+          break;
+      }
+    }
+  }
+  return std::move(collector.out);
 }
 
 ShapeKeyFace faceFromShapeKeys(const FaceModel& model, const GeneratorOptions& options) {

@@ -200,3 +200,80 @@ TEST(ShapeKeyCopies, FeedTheGenerator) {
       (s.coord[1].row(1) - model.meshes[1].coord.row(1) - Eigen::RowVector3d(0, -0.02, 0)).norm(),
       1e-8);
 }
+
+namespace {
+
+// A one-key pose of transform `t`: its rotation about Y by `angle` (radians), or its
+// translation.
+TransformChannel rotationAboutY(int t, double angle) {
+  TransformChannel c;
+  c.transform = t;
+  c.path = TransformChannel::Path::Rotation;
+  c.times = {0};
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()));
+  c.values = {q.x(), q.y(), q.z(), q.w()};
+  return c;
+}
+
+TransformChannel translation(int t, Eigen::Vector3d to) {
+  TransformChannel c;
+  c.transform = t;
+  c.path = TransformChannel::Path::Translation;
+  c.times = {0, 1};  // the pose is the last key
+  c.values = {9, 9, 9, to.x(), to.y(), to.z()};
+  return c;
+}
+
+}  // namespace
+
+TEST(ShapeKeyCopies, AnimationsOfOurNamesArePosesOfTheTransforms) {
+  FaceModel model = keyedModel();
+  // Teeth follow the jaw: the pose joins the morph targets of the same name.
+  model.animations.push_back({"fap3_open_jaw@512", {}, {translation(1, {0, -0.03, 0})}});
+  // The whole head turns: a copy of its own (no morph target has that name).
+  model.animations.push_back({"fap49_head_yaw@20000", {}, {rotationAboutY(0, 0.2)}});
+  model.animations.push_back({"idle", {}, {rotationAboutY(0, 1)}});
+  model.animations.push_back({"talk", {}, {}});  // weights only (none here): not a pose
+  const ShapeKeyCopies out = deformedCopiesFromShapeKeys(model);
+  ASSERT_EQ(out.copies.size(), 4u);
+  EXPECT_EQ(out.ignored, (std::vector<std::string>{"smile", "Basis.001", "idle"}));
+  const DeformedCopy& jaw = out.copies[0];
+  EXPECT_EQ(jaw.model.meshes[0].coord.row(1),
+            model.meshes[0].coord.row(1) + Eigen::RowVector3d(0, -0.05, 0));
+  EXPECT_EQ(jaw.model.transforms[1].translation, Eigen::Vector3d(0, -0.03, 0));
+  EXPECT_EQ(jaw.model.transforms[0].translation, Eigen::Vector3d::Zero());
+  const DeformedCopy& yaw = out.copies[3];
+  EXPECT_EQ(std::make_pair(yaw.fapID, yaw.amplitude), std::make_pair(49, 20000));
+  EXPECT_EQ(yaw.model.meshes[0].coord, model.meshes[0].coord);
+  EXPECT_NEAR(Eigen::AngleAxisd(yaw.model.transforms[0].rotation).angle(), 0.2, 1e-12);
+
+  // The generator turns the poses into FaceDefTransforms the evaluator follows linearly.
+  const FapuMeasurement fapu = measureFapu(model);
+  const GeneratedTables g =
+      generateFaceDefTables(neutralFaceModel(model), fapu, out.copies, {0.01, 1e-6});
+  const FatEvaluator eval({neutralFaceModel(model), g.faceDefTables}, fapu);
+  FapFrame f;
+  f.set(3, 256);
+  f.set(49, 10000);
+  const FatState s = eval.evaluate(f);
+  EXPECT_LE((s.transforms[1].translation - Eigen::Vector3d(0, -0.015, 0)).norm(), 1e-9);
+  const Eigen::AngleAxisd turn(s.transforms[0].rotation);
+  EXPECT_NEAR(turn.angle(), 0.1, 1e-9);
+  EXPECT_NEAR(std::abs(turn.axis().y()), 1, 1e-9);
+}
+
+TEST(ShapeKeyCopies, PosesThatDoNotFitTheModelAreNamed) {
+  FaceModel model = keyedModel();
+  model.animations.push_back({"fap23@1000", {}, {rotationAboutY(7, 0.1)}});
+  Error e = errorOf([&] { deformedCopiesFromShapeKeys(model); });
+  EXPECT_EQ(e.field(), "animation 'fap23@1000'");
+  EXPECT_TRUE(contains(e.reason(), "transform 7 out of range (the model has 2)")) << e.reason();
+  model.animations.back().transformChannels[0] = rotationAboutY(0, 0.1);
+  model.animations.back().transformChannels[0].values.pop_back();
+  EXPECT_TRUE(contains(errorOf([&] { deformedCopiesFromShapeKeys(model); }).reason(),
+                       "3 values for 1 keys (expected 4 a key)"));
+  model.animations.back().name = "fap23@";
+  e = errorOf([&] { deformedCopiesFromShapeKeys(model); });
+  EXPECT_EQ(e.field(), "animation 'fap23@'");
+  EXPECT_TRUE(contains(e.reason(), "fap<N>[_<name>]@<amplitude>"));
+}

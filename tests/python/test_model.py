@@ -285,3 +285,25 @@ def test_animations(tmp_path):
         mpeg4face.write_gltf(model, tmp_path / "bad.gltf")
     assert "weights" in error.value.field
     assert error.value.file.endswith("bad.gltf")
+
+
+def test_transform_channels_round_trip_and_poses(tmp_path):
+    """Transform keyframes survive glTF; an animation named in the shape-key grammar is a
+    pose that generate_face turns into a FaceDefTransform."""
+    model = FaceModel()
+    model.add_mesh_with_transform(quad_mesh())
+    Path_ = mpeg4face.TransformChannel.Path
+    turn = [0.0, np.sin(0.1), 0.0, np.cos(0.1)]  # 0.2 rad about Y, quaternion x y z w
+    channel = mpeg4face.TransformChannel(0, Path_.ROTATION, times=[0.0], values=turn)
+    model.animations.append(
+        mpeg4face.MorphWeightAnimation("fap49_head_yaw@20000", transform_channels=[channel]))
+    mpeg4face.write_gltf(model, tmp_path / "pose.gltf")
+    [back] = mpeg4face.read_gltf(tmp_path / "pose.gltf").animations
+    [read] = back.transform_channels
+    assert (back.name, read.transform, read.path) == ("fap49_head_yaw@20000", 0, Path_.ROTATION)
+    assert np.allclose(read.values, turn)
+    generated = mpeg4face.generate_face(model, absolute_threshold=1e-6)  # no feature points
+    [table] = generated["face"].tables
+    assert table["fap"] == 49 and table["transforms"] == [0] and table["meshes"] == []
+    with pytest.raises(TypeError, match=r"transform_channels\[1\]: expected TransformChannel"):
+        mpeg4face.MorphWeightAnimation("x", transform_channels=[channel, "not a channel"])

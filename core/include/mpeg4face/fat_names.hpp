@@ -41,13 +41,16 @@ std::string formatShapeKeyName(const ShapeKeyName& key);
 
 struct ShapeKeyCopies {
   std::vector<DeformedCopy> copies;  // in order of first appearance
-  std::vector<std::string> ignored;  // target names that are not ours, once each
+  std::vector<std::string> ignored;  // target and animation names not ours, once each
 };
 
 // The morph targets of `model` as deformed copies of its basis (the model's own positions):
 // each of our names becomes one copy (the same name on several meshes moves each of them),
-// named after the target; the copies carry no morph targets or animations. Throws
-// mpeg4face::Error for a malformed name (see parseShapeKeyName), naming the mesh.
+// named after the target; the copies carry no morph targets or animations. An animation of
+// our name with transform channels is a pose: the copy of that name (made if no morph
+// target has it) takes the transforms' values at each channel's last key, so eyes, jaw and
+// head modelled as transforms get FaceDefTransforms. Throws mpeg4face::Error for a
+// malformed name (see parseShapeKeyName), naming the mesh or the animation.
 ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model);
 
 // A face from a model with shape keys: its neutral (neutralFaceModel) with the FaceDefTables
