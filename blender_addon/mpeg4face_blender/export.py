@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """File > Export > MPEG-4 Face (.wrl) and MPEG-4 Face glTF (.glb): the FaceDefTables
 generated from a mesh's FAP shape keys, written by the core (which writes atomically, so a
-failed export leaves no half-written file)."""
+failed export leaves no half-written file). The options are in sub-panels of the file
+browser's operator panel, as Blender's own glTF exporter lays them out."""
 
 # No postponed annotations: bpy reads the property annotations.
 import bpy
@@ -30,9 +31,7 @@ class _ExportFace(ExportHelper):
         return super().invoke(context, event)
 
     def draw(self, context: bpy.types.Context) -> None:
-        layout = self.layout
-        layout.prop_search(self, "object_name", bpy.data, "objects")
-        layout.prop(self, "threshold")
+        pass  # the sub-panels below draw the options
 
     def head(self, context: bpy.types.Context) -> bpy.types.Object | None:
         obj = bpy.data.objects.get(self.object_name) if self.object_name \
@@ -95,12 +94,53 @@ class MPEG4FACE_OT_export_gltf(_ExportFace, bpy.types.Operator):
     writer = staticmethod(mpeg4face.write_face_gltf)
 
 
+class _ExportOptions:
+    """A sub-panel of the file browser's operator panel, shown for our two exporters."""
+
+    bl_space_type = "FILE_BROWSER"
+    bl_region_type = "TOOL_PROPS"
+    bl_parent_id = "FILE_PT_operator"
+
+    @classmethod
+    def poll(cls, context: bpy.types.Context) -> bool:
+        operator = getattr(context.space_data, "active_operator", None)
+        return operator is not None and operator.bl_idname in EXPORTERS
+
+
+def _options(panel: bpy.types.Panel, context: bpy.types.Context):
+    """The panel's layout set up as the file browser's options are, and the operator."""
+    panel.layout.use_property_split = True
+    panel.layout.use_property_decorate = False
+    return panel.layout, context.space_data.active_operator
+
+
+class MPEG4FACE_PT_export_head(_ExportOptions, bpy.types.Panel):
+    bl_label = "Head"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        layout, operator = _options(self, context)
+        layout.prop_search(operator, "object_name", bpy.data, "objects")
+
+
+class MPEG4FACE_PT_export_tables(_ExportOptions, bpy.types.Panel):
+    bl_label = "FaceDefTables"
+
+    def draw(self, context: bpy.types.Context) -> None:
+        layout, operator = _options(self, context)
+        layout.prop(operator, "threshold")
+
+
+# The operators' idnames as the file browser's active_operator gives them.
+EXPORTERS = {"MPEG4FACE_OT_export_vrml", "MPEG4FACE_OT_export_gltf"}
+
+
 def _menu(self, context: bpy.types.Context) -> None:
     self.layout.operator(MPEG4FACE_OT_export_vrml.bl_idname, text="MPEG-4 Face (.wrl)")
     self.layout.operator(MPEG4FACE_OT_export_gltf.bl_idname, text="MPEG-4 Face glTF (.glb)")
 
 
-_classes = (MPEG4FACE_OT_export_vrml, MPEG4FACE_OT_export_gltf)
+_classes = (MPEG4FACE_OT_export_vrml, MPEG4FACE_OT_export_gltf, MPEG4FACE_PT_export_head,
+            MPEG4FACE_PT_export_tables)
 
 
 def register() -> None:

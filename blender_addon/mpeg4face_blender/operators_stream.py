@@ -19,7 +19,7 @@ from bpy_extras.io_utils import ExportHelper
 
 import mpeg4face
 
-from . import fp_logic, mesh_data, operators, stream_logic
+from . import compat, fp_logic, mesh_data, operators, stream_logic
 
 LIVE_KEY = "MPEG-4 live"  # the shape key the live preview writes; not in the grammar
 ACTION_GROUP = "MPEG-4 FAP stream"
@@ -110,15 +110,11 @@ def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.typ
     animation = shape_keys.animation_data or shape_keys.animation_data_create()
     if animation.action is None:
         animation.action = bpy.data.actions.new(f"{obj.name} {ACTION_GROUP}")
-    fcurves = animation.action.fcurves
     frames = np.arange(result.frames, dtype=np.float64) + start
     clamped = []
     for name, values in result.curves.items():
         path = f'key_blocks["{bpy.utils.escape_identifier(name)}"].value'
-        old = fcurves.find(path)
-        if old is not None:
-            fcurves.remove(old)
-        curve = fcurves.new(path, action_group=ACTION_GROUP)
+        curve = compat.new_fcurve(animation, path, ACTION_GROUP)
         curve.keyframe_points.add(result.frames)
         curve.keyframe_points.foreach_set("co", np.column_stack((frames, values)).ravel())
         curve.keyframe_points.foreach_set("interpolation", [_LINEAR] * result.frames)
@@ -367,15 +363,16 @@ def speech_folder(folder: str) -> Path:
 
 
 def add_sound_strip(scene: bpy.types.Scene, obj: bpy.types.Object, wav: Path, start: int
-                    ) -> bpy.types.Sequence:
+                    ) -> compat.Strip:
     """The speech as a sound strip from `start` (replacing the object's earlier one), in
     its own channel above the others."""
     editor = scene.sequence_editor or scene.sequence_editor_create()
+    strips = compat.strips(editor)
     name = f"{SPEECH_STRIP} {obj.name}"
-    for strip in [s for s in editor.sequences if s.name.startswith(name)]:
-        editor.sequences.remove(strip)
-    channel = max((s.channel for s in editor.sequences), default=0) + 1
-    return editor.sequences.new_sound(name, str(wav), channel, start)
+    for strip in [s for s in strips if s.name.startswith(name)]:
+        strips.remove(strip)
+    channel = max((s.channel for s in strips), default=0) + 1
+    return strips.new_sound(name, str(wav), channel, start)
 
 
 class MPEG4FACE_OT_speak_text(bpy.types.Operator):

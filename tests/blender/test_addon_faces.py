@@ -1,8 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """FAP shape keys, FaceDefTables, MPEG-4 export and cloning on the CANDIDE-3 head: keys
 added, mapped and mirrored by the operators, the generate report, .wrl / .glb read back,
-a clone onto a head twice the size, and the reports of bad input. The Basis and every
-other key are compared before and after each operator. Run through run_in_blender.py."""
+a clone onto two heads twice and three times the size (with its progress), and the reports
+of bad input. The Basis and every other key are compared before and after each operator.
+Run through run_in_blender.py."""
+
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -13,11 +16,6 @@ import mpeg4face  # noqa: E402
 
 from mpeg4face_blender import fp_logic, mesh_data, operators_faces  # noqa: E402
 
-OPERATORS = (
-    "MPEG4FACE_OT_add_fap_shape_key", "MPEG4FACE_OT_map_shape_keys",
-    "MPEG4FACE_OT_mirror_shape_key", "MPEG4FACE_OT_generate_tables",
-    "MPEG4FACE_OT_clone_motion", "MPEG4FACE_OT_export_vrml", "MPEG4FACE_OT_export_gltf",
-)
 JAW = 0.05  # how far the test's open_jaw key moves the chin, in Blender's -Z
 
 
@@ -70,11 +68,6 @@ def head(candide_head):
     assert np.array_equal(displacement(obj, "fap3_open_jaw@512"), 0 * displacement(obj, "Smirk"))
     sculpt(obj, "fap3_open_jaw@512", [fp_vertices["2.1"]], (0.0, 0.0, -JAW))
     return obj, fp_vertices
-
-
-def test_operators_support_undo():
-    for name in OPERATORS:
-        assert {"REGISTER", "UNDO"} <= getattr(bpy.types, name).bl_options
 
 
 def test_add_keys(head):
@@ -178,39 +171,83 @@ def test_export_vrml_and_gltf(head, tmp_path):
     model = mpeg4face.read_gltf(glb)
     names = [t.name for m in model.meshes for t in m.morph_targets]
     assert any("fap3" in n for n in names), names
+    # The FDP: every feature point of the head, on its vertex.
+    assert {fp: b.vertex for fp, b in model.feature_points.items()} == fp_vertices
 
 
-def test_clone_onto_scaled_head(head):
-    source, fp_vertices = head
+def scaled_copy(source, fp_vertices, scale):
+    """A selected copy of the head's Basis `scale` times as large, with its feature points
+    and a key of its own, "Mine"."""
     data = source.data.copy()
-    target = bpy.data.objects.new("target", data)
+    target = bpy.data.objects.new(f"target x{scale}", data)
     bpy.context.scene.collection.objects.link(target)
     target.shape_key_clear()
-    data.vertices.foreach_set("co", (operators_faces.basis_coords(target) * 2).ravel())
+    data.vertices.foreach_set("co", (operators_faces.basis_coords(target) * scale).ravel())
     target.shape_key_add(name="Basis", from_mix=False)
     target.shape_key_add(name="Mine", from_mix=False)
     for group in source.vertex_groups:
-        if fp_logic.feature_point_of_group(group.name):
-            target.vertex_groups.new(name=group.name).add(
-                [fp_vertices[fp_logic.feature_point_of_group(group.name)]], 1.0, "REPLACE")
+        fp = fp_logic.feature_point_of_group(group.name)
+        if fp:
+            target.vertex_groups.new(name=group.name).add([fp_vertices[fp]], 1.0, "REPLACE")
+    target.select_set(True)
+    return target
+
+
+@pytest.fixture
+def progress(monkeypatch):
+    """(steps, updates): what the operators give window_manager.progress_begin and
+    progress_update. The RNA functions cannot be replaced, so with_progress is wrapped and
+    its update recorded on the way to the window manager's."""
+    steps, updates = [], []
+    with_progress = operators_faces.with_progress
+
+    def recording(context, count, work):
+        steps.append(count)
+
+        def recorded_work(update):
+            def recorded_update(value):
+                updates.append(value)
+                update(value)
+
+            return work(recorded_update)
+
+        return with_progress(context, count, recorded_work)
+
+    monkeypatch.setattr(operators_faces, "with_progress", recording)
+    return steps, updates
+
+
+def test_clone_onto_scaled_heads(head, progress):
+    source, fp_vertices = head
+    targets = {scale: scaled_copy(source, fp_vertices, scale) for scale in (2, 3)}
+    steps, updates = progress
     try:
-        target.select_set(True)
-        source.select_set(True)
         bpy.context.view_layer.objects.active = source
-        before_source, before_target = keys_of(source), keys_of(target)
+        before = {obj.name: keys_of(obj) for obj in (source, *targets.values())}
         assert bpy.ops.mpeg4face.clone_motion() == {"FINISHED"}
-        assert_kept(before_source, keys_of(source))
-        assert_kept(before_target, keys_of(target))
+        for obj in (source, *targets.values()):
+            assert_kept(before[obj.name], keys_of(obj))
         chin = fp_vertices["2.1"]
-        cloned = displacement(target, "fap3_open_jaw@512")
-        assert np.allclose(cloned[chin], 2 * displacement(source, "fap3_open_jaw@512")[chin],
-                           atol=1e-3)
+        for scale, target in targets.items():
+            cloned = displacement(target, "fap3_open_jaw@512")
+            assert np.allclose(cloned[chin],
+                               scale * displacement(source, "fap3_open_jaw@512")[chin],
+                               atol=1e-3), target.name
+        # One progress step per target, each target's updates within its step.
+        assert steps == [2]
+        assert updates == sorted(updates)
+        assert any(0 <= u < 1 for u in updates) and any(1 <= u < 2 for u in updates)
+        assert updates[-1] == pytest.approx(2)
         # Cloning again replaces the grammar key in place.
         assert bpy.ops.mpeg4face.clone_motion() == {"FINISHED"}
-        assert list(target.data.shape_keys.key_blocks.keys()).count("fap3_open_jaw@512") == 1
+        for target in targets.values():
+            names = target.data.shape_keys.key_blocks.keys()
+            assert names.count("fap3_open_jaw@512") == 1, target.name
     finally:
-        bpy.data.objects.remove(target)
-        bpy.data.meshes.remove(data)
+        for target in targets.values():
+            data = target.data
+            bpy.data.objects.remove(target)
+            bpy.data.meshes.remove(data)
 
 
 def test_bad_input_reports(candide_head, tmp_path):
@@ -255,8 +292,44 @@ def test_bad_input_reports(candide_head, tmp_path):
 
 
 def test_export_menu_entries():
-    entries = [f.__name__ for f in bpy.types.TOPBAR_MT_file_export._dyn_ui_initialize()]
-    assert any(f == "_menu" for f in entries)
+    from test_addon_feature_points import draw
+
+    from mpeg4face_blender import export
+
+    assert export._menu in bpy.types.TOPBAR_MT_file_export._dyn_ui_initialize()
+    lines = draw(SimpleNamespace(draw=export._menu))
+    assert lines == ["operator mpeg4face.export_vrml: MPEG-4 Face (.wrl)",
+                     "operator mpeg4face.export_gltf: MPEG-4 Face glTF (.glb)"]
+
+
+def test_export_options_sub_panels():
+    """The file browser's operator panel shows the options in sub-panels for our two
+    exporters only; each draws its property of the running operator."""
+    from mpeg4face_blender import export
+
+    class Recording:
+        def __init__(self):
+            self.props = []
+
+        def prop(self, data, name, *args):
+            self.props.append(name)
+
+        def prop_search(self, data, name, *args):
+            self.props.append(name)
+
+    panels = {"Head": "object_name", "FaceDefTables": "threshold"}
+    for cls in (export.MPEG4FACE_PT_export_head, export.MPEG4FACE_PT_export_tables):
+        assert getattr(bpy.types, cls.__name__).bl_parent_id == "FILE_PT_operator"
+        for idname in ("MPEG4FACE_OT_export_vrml", "MPEG4FACE_OT_export_gltf"):
+            operator = SimpleNamespace(bl_idname=idname)
+            context = SimpleNamespace(space_data=SimpleNamespace(active_operator=operator))
+            assert cls.poll(context)
+            layout = Recording()
+            cls.draw(SimpleNamespace(layout=layout), context)
+            assert layout.props == [panels[cls.bl_label]]
+        other = SimpleNamespace(bl_idname="EXPORT_SCENE_OT_gltf")
+        assert not cls.poll(SimpleNamespace(space_data=SimpleNamespace(active_operator=other)))
+        assert not cls.poll(SimpleNamespace(space_data=SimpleNamespace()))
 
 
 def test_panels(head):

@@ -15,8 +15,6 @@ from conftest import group_members  # noqa: E402
 
 from mpeg4face_blender import fp_logic, mesh_data, panels, properties  # noqa: E402
 
-OPERATORS = ("MPEG4FACE_OT_assign_feature_point", "MPEG4FACE_OT_mirror_feature_points")
-
 
 def edit_and_select(obj, vertices):
     """Edit Mode with exactly `vertices` selected."""
@@ -59,11 +57,6 @@ def draw(panel, context=None):
     layout = Layout()
     panel.draw(SimpleNamespace(layout=layout), context or bpy.context)
     return [text for text, _ in layout.log]
-
-
-def test_operators_support_undo():
-    for name in OPERATORS:
-        assert getattr(bpy.types, name).bl_options == {"REGISTER", "UNDO"}
 
 
 def test_assign_and_reassign(candide_head):

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's FAP stream operators on CANDIDE-3 with a shape key fap3_open_jaw@512:
-import and bake (values, sliders, frame range and rate, resampling), the live preview
-against the expected FAT result, encoding, speech and bad input. Run through
-run_in_blender.py."""
+import and bake (values, sliders, frame range and rate, resampling, a FIT filling in an
+unsent FAP), the live preview against the expected FAT result, encoding, speech and bad
+input. Run through run_in_blender.py."""
 
+import json
 import shutil
 from types import SimpleNamespace
 
@@ -15,7 +16,7 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 import mpeg4face  # noqa: E402
 from conftest import DATA  # noqa: E402
 
-from mpeg4face_blender import operators_stream, panels_stream  # noqa: E402
+from mpeg4face_blender import compat, operators_stream, panels_stream  # noqa: E402
 
 JOY = DATA / "xface-fap" / "joy.fap"
 KEY = "fap3_open_jaw@512"
@@ -62,9 +63,13 @@ def joy():
     return stream, stream.resolved()["values"][:, 2]
 
 
+def fcurve(obj, name=KEY):
+    animation = obj.data.shape_keys.animation_data
+    return compat.action_fcurves(animation).find(f'key_blocks["{name}"].value')
+
+
 def key_value(obj, frame, name=KEY):
-    curve = obj.data.shape_keys.animation_data.action.fcurves.find(f'key_blocks["{name}"].value')
-    return curve.evaluate(frame)
+    return fcurve(obj, name).evaluate(frame)
 
 
 def test_import_bakes_the_stream(head, joy):
@@ -73,7 +78,7 @@ def test_import_bakes_the_stream(head, joy):
     scene = bpy.context.scene
     assert scene.render.fps / scene.render.fps_base == stream.frame_rate == 25
     assert (scene.frame_start, scene.frame_end) == (5, 5 + 107)
-    curve = head.data.shape_keys.animation_data.action.fcurves.find(f'key_blocks["{KEY}"].value')
+    curve = fcurve(head)
     assert len(curve.keyframe_points) == 108
     assert {p.interpolation for p in curve.keyframe_points} == {"LINEAR"}
     for index in (0, 10, 30, 60, 107):
@@ -121,11 +126,57 @@ def test_import_resamples_to_the_scene_rate(head, joy):
             (values[index] + values[index + 1]) / 1024, abs=1e-6)
 
 
+# stretch_r_cornerlip (FAP 7) from stretch_l_cornerlip (FAP 6) at 3/4: a smile lopsided to
+# the left. Not the left-right preset: a decoder mirrors an unsent partner anyway (resolved()
+# gives FAP 7 = FAP 6), so its f = F would pass with the FIT ignored.
+LOPSIDED_FIT = {
+    "format": "mpeg4face-fit", "version": 1, "nodes": [[6], [7]],
+    "links": [{"parent": 0, "child": 1, "functions": [{
+        "fap": 7, "numerator": [{"coefficient": 0.75, "exponents": [1]}],
+        "denominator": [{"coefficient": 1.0, "exponents": [0]}]}]}],
+}
+RIGHT_KEY = "fap7_stretch_r_cornerlip@512"
+CORNER = slice(30, 40)  # the vertices RIGHT_KEY moves, apart from the jaw's
+STRETCH = np.array([-0.05, 0.0, 0.0])
+
+
+def left_side_only(folder):
+    """joy.fap without FAP 7, and LOPSIDED_FIT: (stream file, FIT file, FAP 7 per frame as
+    FitTable.interpolate derives it)."""
+    joy = mpeg4face.read_fap_stream(JOY)
+    mask, values = np.array(joy.mask), np.array(joy.values)
+    mask[:, 6], values[:, 6] = False, 0
+    stream = folder / "joy_left.fap"
+    mpeg4face.write_fap(mpeg4face.FapStream.from_arrays(
+        joy.frame_numbers, mask, values, frame_rate=joy.frame_rate), str(stream))
+    table = mpeg4face.fit_table_from_json(json.dumps(LOPSIDED_FIT))
+    fit = folder / "lopsided.json"
+    fit.write_text(table.to_json())
+    derived = table.interpolate(mpeg4face.read_fap_stream(stream)).resolved()["values"][:, 6]
+    return stream, fit, derived
+
+
 def test_import_through_a_fit(head, tmp_path, joy):
-    fit = tmp_path / "fit.json"
-    fit.write_text(mpeg4face.fit_preset("left-right").to_json())
-    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), fit_path=str(fit)) == {"FINISHED"}
+    """The stream does not send FAP 7; the FIT derives it. Its key is baked, and shown by
+    the live preview (started from the remembered stream and FIT), with the FIT's values."""
+    _, jaw = joy
+    add_key(head, RIGHT_KEY, moved=CORNER, by=STRETCH)
+    stream, fit, derived = left_side_only(tmp_path)
+    assert np.count_nonzero(derived) > 50  # the FIT has something to show
+    assert bpy.ops.mpeg4face.import_fap_stream(
+        filepath=str(stream), fit_path=str(fit)) == {"FINISHED"}
     assert head.mpeg4face_stream.fit_path == str(fit)
+    for index in (0, 10, 30, 60, 107):
+        assert key_value(head, 1 + index, RIGHT_KEY) == pytest.approx(derived[index] / 512,
+                                                                     abs=1e-6)
+    basis = coords(head.data.shape_keys.key_blocks["Basis"])
+    assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
+    for index in (30, 60):
+        bpy.context.scene.frame_set(1 + index)
+        expected = basis.copy()
+        expected[JAW] += jaw[index] / 512 * DROP
+        expected[CORNER] += derived[index] / 512 * STRETCH
+        np.testing.assert_allclose(evaluated(head), expected, atol=1e-5)
 
 
 def evaluated(obj):
@@ -191,11 +242,9 @@ def test_speak(head, tmp_path):
     assert state.filepath.endswith(".fap") and state.start_frame == 10
     stream = mpeg4face.read_fap_stream(state.filepath)
     assert stream.frame_rate == 30
-    action = head.data.shape_keys.animation_data.action
     for name in ("viseme10", "viseme1"):
-        curve = action.fcurves.find(f'key_blocks["{name}"].value')
-        assert max(p.co[1] for p in curve.keyframe_points) > 0.5
-    strips = list(scene.sequence_editor.sequences)
+        assert max(p.co[1] for p in fcurve(head, name).keyframe_points) > 0.5
+    strips = list(compat.strips(scene.sequence_editor))
     assert len(strips) == 1 and strips[0].type == "SOUND"
     wav = bpy.path.abspath(strips[0].sound.filepath)
     assert wav.endswith(".wav") and wav.startswith(str(tmp_path))
@@ -206,7 +255,7 @@ def test_speak(head, tmp_path):
     assert scene.sync_mode == "AUDIO_SYNC"
     # speaking again replaces the strip
     bpy.ops.mpeg4face.speak_text(text="Hello", folder=str(tmp_path))
-    assert len(scene.sequence_editor.sequences) == 1
+    assert len(compat.strips(scene.sequence_editor)) == 1
 
 
 def test_speak_without_flite_is_reported(head, tmp_path, monkeypatch):

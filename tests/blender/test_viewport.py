@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The real viewport under Xvfb (viewport/screenshots.py in a Blender of its own): a stream
 previewed on CANDIDE-3 changes the mouth region of the screenshots between the neutral
-frame and the open_jaw frame, and leaves the forehead as it was. The screenshots are kept
+frame and the open_jaw frame, and leaves the forehead as it was; two screenshots of the whole
+window show every panel of the add-on's sidebar tab. The screenshots are kept
 in $MPEG4FACE_SCREENSHOTS when it is set (scripts/test.sh: build/screenshots; the user
 guide's pictures in docs/images come from there). Run through run_in_blender.py."""
 
@@ -22,7 +23,7 @@ def test_previewed_stream_moves_the_mouth_in_the_viewport(tmp_path):
     out = Path(os.environ.get("MPEG4FACE_SCREENSHOTS") or tmp_path)
     out.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, MPEG4FACE_SCREENSHOT_DIR=str(out))
-    command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24",
+    command = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24",
                shutil.which("blender") or bpy.app.binary_path, "--factory-startup",
                "--enable-event-simulate", "--python", str(SCRIPT)]
     run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
@@ -32,5 +33,6 @@ def test_previewed_stream_moves_the_mouth_in_the_viewport(tmp_path):
     # Mean change of a colour channel (0..1) over the box around the feature points.
     assert result["mouth_change"] > 0.01, result
     assert result["forehead_change"] < result["mouth_change"] / 20, result
-    for name in ("viewport_neutral.png", "viewport_open_jaw.png", "blender_sidebar.png"):
+    for name in ("viewport_neutral.png", "viewport_open_jaw.png", "blender_sidebar.png",
+                 "blender_sidebar_keys.png"):
         assert (out / name).stat().st_size > 10_000, name

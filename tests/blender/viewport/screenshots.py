@@ -1,11 +1,14 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The real viewport, under a virtual display: CANDIDE-3 with a FAP 3 (open_jaw) shape key
-and its feature points, the add-on's sidebar open, joy.fap imported and baked. Screenshots
-of the neutral frame and of the frame where the jaw is most open, and of the whole window;
-then how much the mouth region and the forehead changed between the two frames, measured
-on the screenshots. Written to $MPEG4FACE_SCREENSHOT_DIR (PNGs and result.json).
+and its feature points, the add-on's sidebar open, joy.fap imported, baked and
+encoded, the FaceDefTables generated. Screenshots of the neutral frame and of the frame
+where the jaw is most open, and of the whole window twice: the feature point panels
+(blender_sidebar.png), then the shape key, FaceDefTables, cloning and FAP stream panels
+(blender_sidebar_keys.png); then how much the mouth region and the forehead changed between
+the two frames, measured on the screenshots. Written to $MPEG4FACE_SCREENSHOT_DIR (PNGs and
+result.json).
 
-    xvfb-run -s "-screen 0 1280x800x24" blender --factory-startup --enable-event-simulate \\
+    xvfb-run -s "-screen 0 1600x1000x24" blender --factory-startup --enable-event-simulate \\
         --python tests/blender/viewport/screenshots.py
 
 run by test_viewport.py. Needs MPEG4FACE_PYTHONPATH (the build's python folder), like
@@ -15,6 +18,7 @@ run_in_blender.py. Exits 0 when it wrote result.json, else 1 (with the error pri
 import json
 import os
 import sys
+import tempfile
 import traceback
 from pathlib import Path
 
@@ -64,11 +68,24 @@ def show_only_our_sidebar_tab():
             bpy.utils.unregister_class(panel)
 
 
+def open_every_panel():
+    """Panels closed by default (Location Warnings, Cloning) registered open, before they
+    are first drawn, so that the screenshots show them."""
+    from mpeg4face_blender import panels, panels_faces
+
+    for panel in (panels.MPEG4FACE_PT_location_warnings, panels_faces.MPEG4FACE_PT_cloning):
+        bpy.utils.unregister_class(panel)
+        panel.bl_options = panel.bl_options - {"DEFAULT_CLOSED"}
+        bpy.utils.register_class(panel)
+
+
 def set_up():
-    """The head, its key, the stream baked, the view from the front, the sidebar's tab."""
+    """The head, its key, its tables, the stream baked and encoded, a clone target, the view
+    from the front, the sidebar's tab."""
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj)
     addon_utils.enable(ADDON, default_set=True)
+    open_every_panel()
     obj, model, _ = make_candide_head()
     jaw = next(t for t in model.meshes[0].morph_targets if t.name.startswith("FAP 3 "))
     obj.shape_key_add(name="Basis")
@@ -80,6 +97,9 @@ def set_up():
     key.data.foreach_set("co", co)
     result = bpy.ops.mpeg4face.import_fap_stream(filepath=str(DATA / "xface-fap" / "joy.fap"))
     assert result == {"FINISHED"}, result
+    assert bpy.ops.mpeg4face.generate_tables() == {"FINISHED"}
+    coded = Path(tempfile.mkdtemp()) / "joy_coded.fba"
+    assert bpy.ops.mpeg4face.encode_fap_stream(filepath=str(coded), mode="dct") == {"FINISHED"}
 
     window, area, region = view3d()
     space = area.spaces.active
@@ -136,6 +156,24 @@ def simulate(**event):
     window.event_simulate(**event)
 
 
+def show_shape_key_panels(obj):
+    """The second page: the feature point panels go (in this throw-away session), leaving
+    FAP Shape Keys, FaceDefTables, Cloning and FAP Stream; a second head, selected with the
+    first one active, is the cloning target the Cloning panel names."""
+    from mpeg4face_blender import panels
+
+    for panel in (panels.MPEG4FACE_PT_location_warnings, panels.MPEG4FACE_PT_fapu,
+                  panels.MPEG4FACE_PT_feature_points):
+        bpy.utils.unregister_class(panel)
+    target = obj.copy()
+    target.data = obj.data.copy()
+    target.name = "target_head"
+    target.location.x = obj.dimensions.x * 1.2
+    bpy.context.scene.collection.objects.link(target)
+    target.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+
+
 def steps():
     simulate(type="ESC", value="PRESS")  # the splash screen
     yield
@@ -178,6 +216,10 @@ def steps():
     scene.frame_set(open_frame)
     yield
     opened = screenshot("viewport_open_jaw.png")
+    show_shape_key_panels(obj)
+    yield
+    with bpy.context.temp_override(window=window):
+        bpy.ops.screen.screenshot(filepath=str(OUT / "blender_sidebar_keys.png"))
     a, b = pixels(neutral), pixels(opened)
     result = {
         "neutral_frame": neutral_frame,
