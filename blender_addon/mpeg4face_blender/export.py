@@ -43,7 +43,7 @@ class _ExportFace(ExportHelper):
         if obj.type != "MESH":
             self.report({"ERROR"}, f"{obj.name} is a {obj.type.lower()} object, not a mesh")
             return None
-        if not operators_faces.has_keys(self, obj) \
+        if not operators_faces.has_keys(self, obj, context.scene) \
                 or not operators_faces.has_feature_points(self, obj):
             return None
         return obj
@@ -56,7 +56,7 @@ class _ExportFace(ExportHelper):
             obj.update_from_editmode()
 
         def work(update) -> shape_keys.TablesReport:
-            face, report = operators_faces.generate(obj, self.threshold)
+            face, report = operators_faces.generate(obj, self.threshold, context.scene)
             update(1)
             self.writer(face, self.filepath)
             update(2)

@@ -107,17 +107,30 @@ def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
     keys as morph targets (displacements from the reference key: the whole shape, whatever
     key it is relative to), for generate_face and clone_face; and the FP_ group warnings.
     Shape keys are read from the mesh datablock, so the object should be in Object Mode."""
-    with face_bmesh(obj) as bm:
-        coords = standard_coords(bm)
-        fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
-        faces = coord_index(bm)
-    targets = {}
-    key = obj.data.shape_keys
-    if key is not None:
-        reference = shape_key_coords(key.reference_key)
-        targets = {name: fp_logic.to_standard_axes(shape_key_coords(key.key_blocks[name]) - reference)
-                   for name in shape_keys}
+    coords, faces, fp_vertices, warnings = mesh_and_points(obj)
+    targets = shape_key_displacements(obj, shape_keys)
     return fp_logic.face_model(coords, faces, fp_vertices, targets), warnings
+
+
+def mesh_and_points(obj: bpy.types.Object
+                    ) -> tuple[np.ndarray, list[int], dict[str, int], list[str]]:
+    """The mesh's vertices (standard axes, object space), its coordIndex, its feature
+    points (from the FP_ groups) and the warnings about those groups."""
+    with face_bmesh(obj) as bm:
+        fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
+        return standard_coords(bm), coord_index(bm), fp_vertices, warnings
+
+
+def shape_key_displacements(obj: bpy.types.Object, names: Iterable[str]
+                            ) -> dict[str, np.ndarray]:
+    """Each named shape key as displacements (standard axes) from the reference key: the
+    whole shape, whatever key it is relative to."""
+    key = obj.data.shape_keys
+    if key is None:
+        return {}
+    reference = shape_key_coords(key.reference_key)
+    return {name: fp_logic.to_standard_axes(shape_key_coords(key.key_blocks[name]) - reference)
+            for name in names}
 
 
 def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.FaceState:

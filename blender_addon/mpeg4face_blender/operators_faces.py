@@ -18,7 +18,7 @@ from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatPrope
 
 import mpeg4face
 
-from . import fp_logic, mesh_data, shape_keys
+from . import fp_logic, mesh_data, poses, shape_keys
 from .operators import active_mesh
 
 # The last "Generate FaceDefTables" (or export) report per object name, for the panel;
@@ -74,12 +74,13 @@ def key_names(obj: bpy.types.Object) -> list[str]:
     return [k.name for k in keys.key_blocks if k != keys.reference_key]
 
 
-def generate(obj: bpy.types.Object, threshold: float
+def generate(obj: bpy.types.Object, threshold: float, scene: bpy.types.Scene
              ) -> tuple[mpeg4face.MpegFace, shape_keys.TablesReport]:
-    """generate_face on the object's keys: the face and its report (with the FP_ group
-    warnings); raises mpeg4face.Error with the core's reason (e.g. "MNS0 is not measured:
-    needs 9.15 and 2.2")."""
-    model, group_warnings = mesh_data.face_model(obj, key_names(obj))
+    """generate_face on the object's keys, its parts' keys and the scene's pose markers
+    (poses.face_model): the face and its report (with the FP_ group warnings); raises
+    mpeg4face.Error with the core's reason (e.g. "MNS0 is not measured: needs 9.15 and
+    2.2")."""
+    model, group_warnings = poses.face_model(obj, key_names, scene)
     generated = mpeg4face.generate_face(model, threshold)
     return generated["face"], shape_keys.tables_report(generated, group_warnings)
 
@@ -105,11 +106,18 @@ def has_feature_points(op: bpy.types.Operator, obj: bpy.types.Object) -> bool:
     return False
 
 
-def has_keys(op: bpy.types.Operator, obj: bpy.types.Object) -> bool:
+def has_keys(op: bpy.types.Operator, obj: bpy.types.Object,
+             scene: bpy.types.Scene | None = None) -> bool:
+    """Whether the object has shape keys besides the Basis (or, given the scene, pose
+    markers), else an error report."""
     keys = obj.data.shape_keys
     if keys is not None and len(keys.key_blocks) > 1:
         return True
-    op.report({"ERROR"}, f"{obj.name} has no shape keys besides the Basis: add FAP shape keys")
+    if scene is not None and poses.pose_markers(scene):
+        return True
+    op.report({"ERROR"}, f"{obj.name} has no shape keys besides the Basis"
+              + (" and the scene no pose markers" if scene is not None else "")
+              + ": add FAP shape keys")
     return False
 
 
@@ -351,12 +359,13 @@ class MPEG4FACE_OT_generate_tables(bpy.types.Operator):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         obj = active_mesh(self, context)
-        if obj is None or not has_keys(self, obj) or not has_feature_points(self, obj):
+        if obj is None or not has_keys(self, obj, context.scene) \
+                or not has_feature_points(self, obj):
             return {"CANCELLED"}
         if obj.mode == "EDIT":
             obj.update_from_editmode()  # the keys' data is stale in Edit Mode
         try:
-            _, report = generate(obj, self.threshold)
+            _, report = generate(obj, self.threshold, context.scene)
         except mpeg4face.Error as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}

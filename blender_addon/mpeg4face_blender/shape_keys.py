@@ -283,13 +283,15 @@ class TablesReport:
 
     covered: list[str]  # table titles, table order
     moved: list[int]  # vertices moved per table
-    copies: int
+    transforms: list[int]  # FaceDefTransforms per table (poses of eyes, jaw, head)
+    copies: int  # shape keys and poses, one for a key and a pose of the same name
     warnings: list[str]
     ignored: list[str]
 
     def lines(self) -> list[str]:
         out = [f"{len(self.covered)} FaceDefTables from {self.copies} shape keys"]
-        out += [f"{title}: {n} vertices" for title, n in zip(self.covered, self.moved)]
+        for title, n, t in zip(self.covered, self.moved, self.transforms):
+            out.append(f"{title}: {n} vertices" + (f", {t} transforms" if t else ""))
         out += [f"warning: {w}" for w in self.warnings]
         if self.ignored:
             out.append(f"ignored (not in the grammar): {', '.join(self.ignored)}")
@@ -303,6 +305,7 @@ def tables_report(generated: Mapping[str, object], group_warnings: Sequence[str]
     return TablesReport(
         [table_title(t["fap"], t["select"]) for t in tables],
         [sum(m["vertices"] for m in t["meshes"]) for t in tables],
+        [len(t["transforms"]) for t in tables],
         int(generated["copies"]),
         [*group_warnings, *generated["warnings"]],
         list(generated["ignored"]),
