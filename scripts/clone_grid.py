@@ -172,10 +172,14 @@ def write_variant(path, vertices, faces):
 
 
 def write_stream(path):
-    """One frame per column (its FAPs sent, the previous column's set back to 0), then a
-    neutral frame."""
+    """One frame per shape (its FAPs sent, the previous frame's set back to 0), then a neutral
+    frame; returns the frame number of each shape, in SHAPES order. The visemes and
+    expressions come first: values are held, and a low-level FAP held even at 0 has priority
+    over them on the vertices it moves (docs/fat.md), so after the FAP frames joy's lip
+    corners and brows would stay still."""
+    order = sorted(range(len(SHAPES)), key=lambda k: not ({1, 2} & SHAPES[k][1].keys()))
     frames, previous = [], {}
-    for _, values in SHAPES + [("neutral", {})]:
+    for _, values in [SHAPES[k] for k in order] + [("neutral", {})]:
         sent = {fap: (0 if fap != 2 else (1, 0)) for fap in previous}
         sent.update(values)
         frames.append(sent)
@@ -192,6 +196,7 @@ def write_stream(path):
                 values.append(str(sent[fap]))
         lines.append(" ".join(values))
     path.write_text("\n".join(lines) + "\n")
+    return [order.index(k) for k in range(len(SHAPES))]
 
 
 def read_obj(path):
@@ -287,7 +292,7 @@ def main():
             faces_[k] = (name, model, csv, out)
 
     stream = work / "grid.fap"
-    write_stream(stream)
+    numbers = write_stream(stream) + [len(SHAPES)]  # the shapes', then the neutral frame
     n = len(faces_)
     # frames[i][j]: per shape the (vertices, triangles, motion) of source i cloned onto j.
     frames = [[None] * n for _ in range(n)]
@@ -299,7 +304,7 @@ def main():
                 print(f"clone {sname} -> {tname}", flush=True)
                 run(cli, "clone", source, model, "--target-feature-points", csv, "-o", face)
             objs = []
-            for k in range(len(SHAPES) + 1):
+            for k in numbers:
                 obj = work / f"frame_{i}_{j}_{k}.obj"
                 run(cli, "apply", face, stream, "--frame", k, "-o", obj)
                 objs.append(read_obj(obj))

@@ -4,8 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "fat_test_face.hpp"
 #include "mpeg4face/clone.hpp"
@@ -309,16 +312,53 @@ TEST(Clone, ACopyOfOtherTopologyIsNamed) {
   EXPECT_TRUE(contains(e.what(), "other faces")) << e.what();
 }
 
+// FAPs, a viseme and an expression: cloneFace gives each copy its table (visemes as FAP 1 and
+// expressions as FAP 2, their number in highLevelSelect), which reproduces the cloned copy.
 TEST(Clone, CloneFaceMakesTablesThatReproduceTheCopies) {
   const Candide c = candide();
-  const auto copies = candideCopies(c, 400);
+  auto copies = candideCopies(c, 400);
+  // Made of CANDIDE's units, as a modeler would sculpt them: viseme 10 ("A:") opens the jaw
+  // and stretches the lip corners, expression 1 (joy) raises and stretches them.
+  const auto made = [&](std::string name, int fap, int select,
+                        std::initializer_list<std::pair<int, double>> units) {
+    DeformedCopy copy{std::move(name), fap, select, 63, c.neutral};
+    for (const auto& [unit, weight] : units) {
+      copy.model.meshes[0].coord += weight * motionOf(copyOf(copies, unit), c.neutral);
+    }
+    return copy;
+  };
+  const DeformedCopy viseme = made("viseme10_A", 1, 10, {{3, 1.0}, {6, 0.5}, {7, 0.5}});
+  const DeformedCopy joy =
+      made("expression1_joy", 2, 1, {{12, 1.0}, {13, 1.0}, {6, 0.3}, {7, 0.3}});
+  copies.push_back(viseme);
+  copies.push_back(joy);
   FaceModel scaled = c.neutral;
   scaled.meshes[0].coord *= 1.7;
   const ClonedFace f = cloneFace(c.neutral, copies, scaled);
   EXPECT_EQ(f.copies.size(), copies.size());
   EXPECT_EQ(f.face.faceDefTables.size(), copies.size());
   EXPECT_EQ(f.face.faceSceneGraph.meshes[0].coord, scaled.meshes[0].coord);
-  // Each table, evaluated at its copy's amplitude, moves the target as the cloned copy does.
+  for (const auto& [fap, select] : {std::pair{1, 10}, std::pair{2, 1}}) {
+    EXPECT_EQ(std::ranges::count_if(f.face.faceDefTables,
+                                    [&](const FaceDefTables& t) {
+                                      return t.fapID == fap && t.highLevelSelect == select;
+                                    }),
+              1)
+        << "FAP " << fap << " select " << select;
+  }
+  // The high-level copies carry their own motion over: the source's, scaled with the face
+  // (a scaled copy is cloned exactly, CloningOntoAScaledCopyScalesTheMotion).
+  for (const DeformedCopy* source : {&viseme, &joy}) {
+    const DeformedCopy& cloned = copyOf(f.copies, source->fapID);
+    EXPECT_EQ(cloned.highLevelSelect, source->highLevelSelect);
+    EXPECT_EQ(cloned.amplitude, 63);
+    const Points3 expected = 1.7 * motionOf(*source, c.neutral);
+    ASSERT_GT(maxRowNorm(expected), 0) << source->name;
+    EXPECT_LE(maxRowNorm(motionOf(cloned, scaled) - expected), 1e-9 * maxRowNorm(expected))
+        << source->name;
+  }
+  // Each table, evaluated at its copy's amplitude (viseme_blend or expression intensity for
+  // the high-level ones), moves the target as the cloned copy does.
   const FatEvaluator eval(f.face, measureFapu(scaled));
   for (const DeformedCopy& copy : f.copies) {
     const double largest = maxRowNorm(motionOf(copy, scaled));
