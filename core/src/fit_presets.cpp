@@ -83,6 +83,33 @@ constexpr std::array<ExpressionShape, 6> kExpressionShapes{{
        {20, -250}}}},  // surprise
 }};
 
+constexpr std::array<int, 7> kVisemeFaps{3, 4, 5, 6, 7, 16, 17};
+
+// Each viseme's mouth FAPs when it is shown fully (amount 63), FAPU; the rest 0. Our own
+// estimates from the visemes' phonemes (Tekalp-Ostermann Table 3; docs/fit.md): open vowels
+// open the jaw, rounded ones narrow and push the lips, /p b m/ presses them, /f v/ lifts the
+// lower lip to the teeth.
+struct VisemeShape {
+  int viseme;
+  std::array<std::pair<int, int>, 5> faps;
+};
+constexpr std::array<VisemeShape, 14> kVisemeShapes{{
+    {1, {{{4, 40}, {5, 40}}}},                                       // p, b, m
+    {2, {{{3, 60}, {5, 150}, {16, -80}}}},                           // f, v
+    {3, {{{3, 120}, {5, 40}}}},                                      // T, D
+    {4, {{{3, 100}}}},                                               // t, d
+    {5, {{{3, 160}}}},                                               // k, g
+    {6, {{{3, 90}, {6, -80}, {7, -80}, {16, 120}, {17, 120}}}},      // tS, dZ, S
+    {7, {{{3, 50}, {6, 60}, {7, 60}}}},                              // s, z
+    {8, {{{3, 120}}}},                                               // n, l
+    {9, {{{3, 100}, {6, -60}, {7, -60}, {16, 60}, {17, 60}}}},       // r
+    {10, {{{3, 380}, {6, 40}, {7, 40}}}},                            // A:
+    {11, {{{3, 240}, {6, 100}, {7, 100}}}},                          // e
+    {12, {{{3, 140}, {6, 160}, {7, 160}}}},                          // I
+    {13, {{{3, 300}, {6, -140}, {7, -140}, {16, 80}, {17, 80}}}},    // Q
+    {14, {{{3, 140}, {6, -200}, {7, -200}, {16, 140}, {17, 140}}}},  // U
+}};
+
 }  // namespace
 
 FitTable leftRightFitTable() {
@@ -149,9 +176,36 @@ FitTable expressionFitTable() {
   return table;
 }
 
+std::span<const int> visemeFitFaps() { return kVisemeFaps; }
+
+FitTable visemeFitTable() {
+  FitTable table;
+  const int parent = addFitNode(table, {1});
+  const int child = addFitNode(table, {kVisemeFaps.begin(), kVisemeFaps.end()});
+  const int link = addFitLink(table, parent, child);
+  // Variables of {1}: select1, select2, blend. Viseme select1 is shown by blend / 63, select2
+  // by (63 - blend) / 63, as a FaceDefTables for FAP 1 shows them.
+  for (int fap : kVisemeFaps) {
+    FitFunction f;
+    f.denominator.push_back({1.0, {0, 0, 0}});
+    for (const VisemeShape& shape : kVisemeShapes) {
+      for (const auto& [id, value] : shape.faps) {
+        if (id != fap || value == 0) continue;
+        const double p = value / 63.0;
+        f.numerator.push_back({p, {0, 0, 1}, kVisemeSelect1, shape.viseme});
+        f.numerator.push_back(
+            {static_cast<double>(value), {0, 0, 0}, kVisemeSelect2, shape.viseme});
+        f.numerator.push_back({-p, {0, 0, 1}, kVisemeSelect2, shape.viseme});
+      }
+    }
+    setFitFunction(table, link, fap, f);
+  }
+  return table;
+}
+
 std::span<const std::string_view> fitPresetNames() {
-  static constexpr std::array<std::string_view, 4> kNames{"left-right", "inner-outer-lip",
-                                                          "eyebrow", "expression"};
+  static constexpr std::array<std::string_view, 5> kNames{"left-right", "inner-outer-lip",
+                                                          "eyebrow", "expression", "viseme"};
   return kNames;
 }
 
@@ -160,6 +214,7 @@ FitTable fitPreset(std::string_view name) {
   if (name == "inner-outer-lip") return innerOuterLipFitTable();
   if (name == "eyebrow") return eyebrowFitTable();
   if (name == "expression") return expressionFitTable();
+  if (name == "viseme") return visemeFitTable();
   std::string known;
   for (std::string_view n : fitPresetNames()) known += (known.empty() ? "" : ", ") + std::string(n);
   throw Error({}, 0, "preset",

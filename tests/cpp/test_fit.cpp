@@ -194,6 +194,37 @@ TEST(Fit, ExpressionPresetUsesTheImpulseOnTheSelect) {
   EXPECT_EQ(mixed.value(3), 133);
 }
 
+TEST(Fit, VisemePresetBlendsTheTwoVisemesMouths) {
+  const FitTable table = visemeFitTable();
+  EXPECT_TRUE(fitProblems(table).empty()) << fitProblems(table)[0];
+  ASSERT_EQ(table.nodes[1].size(), visemeFitFaps().size());
+  FapFrame a;  // viseme 10 (A:) shown fully, through either select
+  a.set(1, 0);
+  a.viseme = {10, 0, 63};
+  EXPECT_EQ(interpolateFitFrame(table, a), 7);
+  EXPECT_EQ(a.value(3), 380);  // the jaw wide open
+  EXPECT_EQ(a.value(6), 40);
+  EXPECT_EQ(a.value(16), 0);
+  FapFrame same = a;
+  same.viseme = {0, 10, 0};  // select2 at blend 0: all of it
+  interpolateFitFrame(table, same);
+  EXPECT_EQ(same.value(3), 380);
+  // A third of the way from U (14) to A: (10): each mouth FAP between the two.
+  FapFrame blend;
+  blend.set(1, 0);
+  blend.viseme = {10, 14, 21};
+  interpolateFitFrame(table, blend);
+  EXPECT_EQ(blend.value(3), std::lround(380 / 3.0 + 140 * 2 / 3.0));
+  EXPECT_EQ(blend.value(6), std::lround(40 / 3.0 - 200 * 2 / 3.0));
+  EXPECT_EQ(blend.value(17), std::lround(140 * 2 / 3.0));
+  FapFrame silence;  // viseme 0: the neutral mouth
+  silence.set(1, 0);
+  silence.viseme = {0, 0, 63};
+  interpolateFitFrame(table, silence);
+  EXPECT_EQ(silence.value(3), 0);
+  EXPECT_TRUE(silence.has(3));
+}
+
 TEST(Fit, EditingAndValidationNameTheProblem) {
   FitTable table = eyebrowFitTable();
   EXPECT_TRUE(fitProblems(table).empty());

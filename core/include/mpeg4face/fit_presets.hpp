@@ -30,7 +30,16 @@ FitTable expressionFitTable();
 // The 27 FAPs of expressionFitTable, in its child node's order.
 std::span<const int> expressionFitFaps();
 
-// The presets by their CLI names: "left-right", "inner-outer-lip", "eyebrow", "expression".
+// Viseme (FAP 1) -> the mouth's low-level FAPs (3..7, 16, 17), so that a face with tables
+// for those FAPs only (CANDIDE-3's units) speaks a viseme stream: f_i = sum_v
+// delta(select1 - v) p_iv blend + delta(select2 - v) p_iv (63 - blend), v = 1..14, p_iv our
+// own estimates of viseme v's FAP i when shown fully / 63 (docs/fit.md).
+FitTable visemeFitTable();
+// The FAPs of visemeFitTable, in its child node's order.
+std::span<const int> visemeFitFaps();
+
+// The presets by their CLI names: "left-right", "inner-outer-lip", "eyebrow", "expression",
+// "viseme".
 std::span<const std::string_view> fitPresetNames();
 // Throws mpeg4face::Error naming the known presets for an unknown name.
 FitTable fitPreset(std::string_view name);
