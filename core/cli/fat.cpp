@@ -19,10 +19,12 @@
 #include "mpeg4face/fat_names.hpp"
 #include "mpeg4face/feature_point_csv.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/obj.hpp"
 #include "mpeg4face/spec.hpp"
 #include "mpeg4face/vrml.hpp"
+#include "mpeg4face/wfm.hpp"
 #include "paths.hpp"
 
 namespace mpeg4face::cli {
@@ -35,6 +37,7 @@ struct Args {
   std::optional<std::string> featurePoints;
   std::optional<double> threshold;
   std::optional<int> frame;
+  std::optional<std::string> fit;
 };
 
 Args parseArgs(const std::vector<std::string>& args, bool generateOptions, bool frameOption) {
@@ -47,6 +50,8 @@ Args parseArgs(const std::vector<std::string>& args, bool generateOptions, bool 
       out.featurePoints = optionValue(args, i, "a CSV file");
     } else if (generateOptions && a == "--threshold") {
       out.threshold = numberArgument(args, i, "a number of FAPU", 0);
+    } else if (generateOptions && a == "--fit") {
+      out.fit = optionValue(args, i, "a FAP Interpolation Table (.json or a face's .wrl)");
     } else if (frameOption && a == "--frame") {
       const std::string& text = optionValue(args, i, "a frame number");
       const std::optional<int> n = parseInt(text);
@@ -83,19 +88,34 @@ int runFat(const std::vector<std::string>& rawArgs) {
   const Args args = parseArgs({rawArgs.begin() + 1, rawArgs.end()}, true, false);
   if (args.files.size() != 1) throw UsageError("fat generate takes one HEAD file");
   const std::string& head = args.files[0];
-  if (!isGltf(head)) throw UsageError("HEAD must be .glb or .gltf, not '" + head + "'");
+  const bool candide = extensionOf(head) == ".wfm";
+  if (!isGltf(head) && !candide) {
+    throw UsageError("HEAD must be .glb, .gltf or CANDIDE's .wfm, not '" + head + "'");
+  }
   if (extensionOf(args.output) != ".wrl") throw UsageError("-o must name a .wrl file");
 
-  FaceModel model = readModel(head);
+  // Read first: a bad table stops before the work.
+  const std::optional<FitTable> fit =
+      args.fit ? std::optional(readFitTableFile(*args.fit)) : std::nullopt;
+  const std::optional<CandideModel> units = candide ? std::optional(readWfm(head)) : std::nullopt;
+  FaceModel model = units ? candideToFaceModel(*units) : readModel(head);
   std::vector<std::string> warnings;
   if (args.featurePoints) {
     FeaturePointCsv csv = readFeaturePointCsv(*args.featurePoints, model);
     for (auto& [id, binding] : csv.featurePoints) model.featurePoints[id] = binding;
     warnings = std::move(csv.warnings);
   }
+  if (units) {
+    try {
+      nameCandideFapUnits(model, *units);  // the FAPU come from the feature points just bound
+    } catch (const Error& e) {
+      throw Error(head, 0, e.field(), e.reason());
+    }
+  }
   GeneratorOptions options;
   if (args.threshold) options.threshold = *args.threshold;
   ShapeKeyFace generated = faceFromShapeKeys(model, options);
+  generated.face.fit = fit;
   if (generated.copies == 0) {
     throw Error(head, 0, "morph targets",
                 "no morph target is named as a FAP, viseme or expression (e.g. "
@@ -146,8 +166,13 @@ int runApply(const std::vector<std::string>& rawArgs) {
   if (!obj && !isGltf(args.output)) throw UsageError("-o must name a .obj, .glb or .gltf file");
   if (obj && !args.frame) throw UsageError("an .obj holds one frame: give --frame N");
   const MpegFace face = readFace(args.files[0]);
-  const FapStream stream = readFapFile(args.files[1]);
+  FapStream stream = readFapStream(args.files[1]);
   const FapuMeasurement fapu = measureFapu(face.faceSceneGraph);
+  // As a decoder does: the Face node's FIT derives what the stream does not send.
+  if (face.fit) {
+    const int derived = interpolateFitStream(*face.fit, stream);
+    std::printf("%s: the face's FIT derived %d FAP values\n", args.files[0].c_str(), derived);
+  }
 
   if (!args.frame) {
     writeFatGltf(face, fapu, {&stream, 1}, args.output);

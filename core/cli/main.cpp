@@ -57,20 +57,23 @@ constexpr std::array kCommands{
             "            python3-matplotlib; MPEG4FACE_RD_PLOT overrides the script's path)\n",
             mpeg4face::cli::runRd},
     Command{"fat", "Face Animation Tables from a head's named morph targets, as .wrl",
-            "mpeg4face fat generate HEAD.glb|.gltf [--feature-points CSV] [--threshold T]\n"
-            "                       -o FACE.wrl\n"
+            "mpeg4face fat generate HEAD.glb|.gltf|.wfm [--feature-points CSV] [--threshold T]\n"
+            "                       [--fit TABLE] -o FACE.wrl\n"
             "  morph targets named fap<N>[_<name>]@<value>, viseme<N>, expression<N>[@<i>]\n"
-            "  (docs/fat.md) become the tables; the basis is the neutral face\n"
+            "  (docs/fat.md) become the tables; the basis is the neutral face; a CANDIDE-3\n"
+            "  .wfm gives its MPEG-4 animation units (scaled by the FAPU measured)\n"
             "  --feature-points CSV  bind feature points (needed for the FAPU), as info\n"
-            "  --threshold T  FAPU a vertex must move to be in a table (default 0.01)\n",
+            "  --threshold T  FAPU a vertex must move to be in a table (default 0.01)\n"
+            "  --fit TABLE  the FAP Interpolation Table (.json) for the Face node\n",
             mpeg4face::cli::runFat},
     Command{"export", "a face with tables (.wrl) as glTF: one morph target per interval",
             "mpeg4face export FACE.wrl -o OUT.glb|.gltf\n", mpeg4face::cli::runExport},
-    Command{"apply", "animate a face (.wrl) with a .fap stream: one frame, or all as glTF",
-            "mpeg4face apply FACE.wrl STREAM.fap --frame N -o OUT.obj|.glb|.gltf\n"
-            "mpeg4face apply FACE.wrl STREAM.fap -o OUT.glb|.gltf\n"
+    Command{"apply", "animate a face (.wrl) with a FAP stream: one frame, or all as glTF",
+            "mpeg4face apply FACE.wrl STREAM.fap|.fba --frame N -o OUT.obj|.glb|.gltf\n"
+            "mpeg4face apply FACE.wrl STREAM.fap|.fba -o OUT.glb|.gltf\n"
             "  --frame N  the frame numbered N in the file (values held, left/right mirrored)\n"
-            "  without --frame the whole stream is baked as a glTF animation\n",
+            "  without --frame the whole stream is baked as a glTF animation\n"
+            "  the face's FIT, if it has one, derives the FAPs the stream does not send\n",
             mpeg4face::cli::runApply},
     Command{"clone", "Facial Motion Cloning: a face's FAP motion onto a neutral face",
             "mpeg4face clone SOURCE TARGET [--source-feature-points CSV]\n"

@@ -7,6 +7,8 @@
 #include <string>
 
 #include "mpeg4face/error.hpp"
+#include "mpeg4face/fapu.hpp"
+#include "mpeg4face/fat_names.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/spec.hpp"
 #include "text_reader.hpp"
@@ -313,6 +315,45 @@ FaceModel candideToFaceModel(const CandideModel& candide) {
     mesh.morphTargets.push_back(std::move(target));
   }
   return model;
+}
+
+void nameCandideFapUnits(FaceModel& model, const CandideModel& candide) {
+  std::vector<MorphTarget>& targets = model.meshes.at(0).morphTargets;
+  if (targets.size() != candide.animationUnits.size()) {
+    throw Error({}, 0, "CANDIDE model", "expected candideToFaceModel's morph targets, one a unit");
+  }
+  const FapuMeasurement fapu = measureFapu(model);
+  std::vector<MorphTarget> named;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const CandideUnit& unit = candide.animationUnits[i];
+    if (unit.fap == 0) {
+      named.push_back(std::move(targets[i]));
+      continue;
+    }
+    const FapInfo& info = fapInfo(unit.fap);
+    const FapuInfo* unitFapu = nullptr;
+    for (const FapuInfo& f : fapuTable()) {
+      if (unit.fapu.empty() ? f.kind == info.fapu : f.name == unit.fapu) unitFapu = &f;
+    }
+    if (unitFapu == nullptr) {
+      throw Error({}, 0, "animation unit '" + unit.name + "'", "unknown FAPU '" + unit.fapu + "'");
+    }
+    const double scale = fapu.unit(unitFapu->kind);
+    if (scale == 0) {
+      throw Error({}, 0, "animation unit '" + unit.name + "'",
+                  std::string(unitFapu->neutralName) +
+                      " is not measured: bind the feature points it needs (mpeg4face info "
+                      "names them)");
+    }
+    for (int sign : {1, -1}) {
+      if (sign < 0 && !info.bidirectional) break;
+      const int amplitude = sign * kCandideUnitAmplitude;
+      named.push_back({formatShapeKeyName({unit.fap, 0, amplitude, std::string(info.name)}),
+                       targets[i].displacements * (amplitude * scale)});
+    }
+  }
+  targets = std::move(named);
+  model.meshes[0].weights.clear();  // one weight a target: the old ones no longer fit
 }
 
 }  // namespace mpeg4face

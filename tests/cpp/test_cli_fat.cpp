@@ -18,6 +18,7 @@
 #include "mpeg4face/fapu.hpp"
 #include "mpeg4face/feature_point_csv.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit_json.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/obj.hpp"
 #include "mpeg4face/spec.hpp"
@@ -234,4 +235,76 @@ TEST(CliFat, ErrorsAndUsage) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find("morph targets"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(dir / "p.wrl"));
+}
+
+namespace {
+
+// The mesh of `apply FACE STREAM --frame N -o OBJ`, checking the command's output.
+Points3 appliedFrame(const std::filesystem::path& face, const std::filesystem::path& stream,
+                     int frame, const std::string& expectOut) {
+  const std::filesystem::path obj = mpeg4face::test::scratchDir() / "frame.obj";
+  const auto r = runCli("apply " + face.string() + " " + stream.string() + " --frame " +
+                        std::to_string(frame) + " -o " + obj.string());
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find(expectOut), std::string::npos) << r.out;
+  return readObj(obj).meshes.at(0).coord;
+}
+
+}  // namespace
+
+// CANDIDE-3's units as tables, with the viseme FIT in the Face node: a stream that sends
+// only visemes (as `speak` writes them) moves the mouth exactly as the FAPs the FIT derives.
+TEST(CliFat, CandideUnitsWithAVisemeFitSpeakAVisemeStream) {
+  const std::filesystem::path dir = mpeg4face::test::scratchDir();
+  const std::string csv = (kCandideDir / "feature_points.csv").string();
+  const std::string wfm = (kCandideDir / "candide3.wfm").string();
+  const std::filesystem::path fit = dir / "viseme.json", face = dir / "face.wrl";
+  ASSERT_EQ(runCli("fit preset viseme -o " + fit.string()).status, 0);
+  auto r = runCli("fat generate " + wfm + " --feature-points " + csv + " --fit " + fit.string() +
+                  " -o " + face.string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("FAP 3 open_jaw"), std::string::npos) << r.out;
+  const MpegFace read = readVrml(face);
+  EXPECT_EQ(read.faceDefTables.size(), 54u);
+  ASSERT_TRUE(read.fit.has_value());
+  EXPECT_EQ(*read.fit, readFitJson(fit));
+
+  FapStream visemes;  // neutral, then A: fully, as an .fba
+  visemes.frames.resize(2);
+  for (int n : {0, 1}) {
+    visemes.frames[n].number = n;
+    visemes.frames[n].set(1, 0);
+    visemes.frames[n].viseme = {n == 0 ? 0 : 10, 0, 63};
+  }
+  writeFapFile(dir / "visemes.fap", visemes);
+  const std::filesystem::path fba = dir / "visemes.fba";
+  ASSERT_EQ(runCli("encode " + (dir / "visemes.fap").string() + " -o " + fba.string()).status, 0);
+  FapStream faps;  // the same mouth sent as the FAPs the viseme preset gives A:
+  faps.frames.resize(2);
+  for (int n : {0, 1}) {
+    faps.frames[n].number = n;
+    for (const auto& [fap, value] : {std::pair{3, 380}, {6, 40}, {7, 40}}) {
+      faps.frames[n].set(fap, n == 0 ? 0 : value);
+    }
+  }
+  writeFapFile(dir / "faps.fap", faps);
+  const Points3 neutral = appliedFrame(face, fba, 0, "the face's FIT derived");
+  const Points3 spoken = appliedFrame(face, fba, 1, "the face's FIT derived");
+  const Points3 sent = appliedFrame(face, dir / "faps.fap", 1, "wrote");
+  EXPECT_GT((spoken - neutral).cwiseAbs().maxCoeff(), 0.01);  // the jaw opened
+  EXPECT_LE((spoken - sent).cwiseAbs().maxCoeff(), 1e-6);
+
+  // Without the FIT the face has no viseme tables: the viseme stream leaves it still.
+  const std::filesystem::path plain = dir / "plain.wrl";
+  ASSERT_EQ(
+      runCli("fat generate " + wfm + " --feature-points " + csv + " -o " + plain.string()).status,
+      0);
+  EXPECT_EQ(appliedFrame(plain, fba, 1, "wrote"), appliedFrame(plain, fba, 0, "wrote"));
+
+  // The units need the FAPU: without feature points the file and the unit are named.
+  r = runCli("fat generate " + wfm + " -o " + (dir / "none.wrl").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("candide3.wfm"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("is not measured"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "none.wrl"));
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -9,6 +10,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat_evaluate.hpp"
 #include "mpeg4face/fat_generate.hpp"
+#include "mpeg4face/fat_names.hpp"
 #include "mpeg4face/feature_point_csv.hpp"
 #include "mpeg4face/wfm.hpp"
 #include "test_support.hpp"
@@ -278,26 +280,46 @@ TEST(FatGenerate, AnUnmeasuredFapuNamesTheFeaturePointsItNeeds) {
 // Convention (docs/fat.md): a unit's displacement is in its FAPU (the unit's "# MNS" line, or
 // the standard's FAPU where the file has none: AU for FAP 23-26, ES for 27-28, IRISD for
 // 29-30), so FAP value a moves each of its vertices by a * FAPU * d.
-TEST(FatCandide3, TablesFromSculptedCopiesReproduceTheUnitsMotion) {
-  const std::filesystem::path dir = mpeg4face::test::kData / "candide3";
-  const CandideModel candide = readWfm(dir / "candide3.wfm");
-  FaceModel neutral = candide.model;
-  neutral.featurePoints = readFeaturePointCsv(dir / "feature_points.csv", neutral).featurePoints;
-  const FapuMeasurement fapu = measureFapu(neutral);
-  ASSERT_TRUE(fapu.missing().empty());
-  const auto unitOf = [&](const CandideUnit& u) {
+namespace {
+
+// CANDIDE-3 with its feature points, and the motion of a unit straight from the file.
+struct Candide3 {
+  CandideModel candide = readWfm(mpeg4face::test::kData / "candide3" / "candide3.wfm");
+  FaceModel neutral = withFeaturePoints(candide.model);
+  FapuMeasurement fapu = measureFapu(neutral);
+
+  static FaceModel withFeaturePoints(FaceModel model) {
+    model.featurePoints =
+        readFeaturePointCsv(mpeg4face::test::kData / "candide3" / "feature_points.csv", model)
+            .featurePoints;
+    return model;
+  }
+  double unitOf(const CandideUnit& u) const {
     if (u.fapu.empty()) return fapu.unit(fapInfo(u.fap).fapu);
     for (const FapuInfo& info : fapuTable()) {
       if (info.name == u.fapu) return fapu.unit(info.kind);
     }
     throw std::runtime_error("unknown FAPU " + u.fapu);
-  };
-  // CANDIDE's motion of FAP u.fap at value a, straight from the file.
-  const auto motion = [&](const CandideUnit& u, double a, Points3& coord) {
+  }
+  // Unit u at FAP value a added to coord.
+  void motion(const CandideUnit& u, double a, Points3& coord) const {
     for (std::size_t i = 0; i < u.vertices.size(); ++i) {
       coord.row(u.vertices[i]) += a * unitOf(u) * u.displacements.row(static_cast<Eigen::Index>(i));
     }
+  }
+};
+
+}  // namespace
+
+TEST(FatCandide3, TablesFromSculptedCopiesReproduceTheUnitsMotion) {
+  const Candide3 c3;
+  const FaceModel& neutral = c3.neutral;
+  const FapuMeasurement& fapu = c3.fapu;
+  ASSERT_TRUE(fapu.missing().empty());
+  const auto motion = [&](const CandideUnit& u, double a, Points3& coord) {
+    c3.motion(u, a, coord);
   };
+  const CandideModel& candide = c3.candide;
   std::vector<DeformedCopy> copies;
   int units = 0;
   for (const CandideUnit& u : candide.animationUnits) {
@@ -336,4 +358,43 @@ TEST(FatCandide3, TablesFromSculptedCopiesReproduceTheUnitsMotion) {
     motion(u, a, expectedAll);
   }
   EXPECT_LE((eval.evaluate(all).coord[0] - expectedAll).cwiseAbs().maxCoeff(), tolerance);
+}
+
+// The same convention through the shape-key grammar: nameCandideFapUnits makes the units
+// targets that faceFromShapeKeys turns into tables reproducing the file's motion.
+TEST(FatCandide3, UnitsNamedInTheGrammarGiveTablesOfTheUnitsMotion) {
+  const Candide3 c3;
+  FaceModel model = Candide3::withFeaturePoints(candideToFaceModel(c3.candide));
+  nameCandideFapUnits(model, c3.candide);
+  const std::vector<MorphTarget>& targets = model.meshes[0].morphTargets;
+  EXPECT_EQ(targets[0].name, c3.candide.animationUnits[0].name);  // not an MPEG-4 unit: kept
+  EXPECT_TRUE(std::ranges::any_of(targets, [](const MorphTarget& t) {
+    return t.name == "fap3_open_jaw@1000";  // unidirectional: no @-1000
+  }));
+  EXPECT_TRUE(std::ranges::none_of(
+      targets, [](const MorphTarget& t) { return t.name == "fap3_open_jaw@-1000"; }));
+  EXPECT_TRUE(std::ranges::any_of(
+      targets, [](const MorphTarget& t) { return t.name == "fap6_stretch_l_cornerlip@-1000"; }));
+  const ShapeKeyFace generated = faceFromShapeKeys(model);
+  EXPECT_TRUE(generated.warnings.empty()) << generated.warnings[0];
+  EXPECT_EQ(generated.face.faceDefTables.size(), 54u);
+  const FatEvaluator eval(generated.face, c3.fapu);
+  const double tolerance = 1e-5 * boundingDiagonal(c3.neutral);
+  for (const CandideUnit& u : c3.candide.animationUnits) {
+    if (u.fap == 0) continue;
+    for (int a : {-700, 250, 1500}) {
+      if (a < 0 && !fapInfo(u.fap).bidirectional) continue;
+      FapFrame f;
+      f.set(u.fap, a);
+      Points3 expected = c3.neutral.meshes[0].coord;
+      c3.motion(u, a, expected);
+      EXPECT_LE((eval.evaluate(f).coord[0] - expected).cwiseAbs().maxCoeff(), tolerance)
+          << u.name << " at " << a;
+    }
+  }
+  // Without the feature points the FAPU is not measured: the unit is named.
+  FaceModel bare = candideToFaceModel(c3.candide);
+  const Error e = errorOf([&] { nameCandideFapUnits(bare, c3.candide); });
+  EXPECT_TRUE(e.field().starts_with("animation unit 'FAP")) << e.field();
+  EXPECT_TRUE(e.reason().find("is not measured") != std::string::npos) << e.reason();
 }
