@@ -18,7 +18,6 @@
 namespace mpeg4face {
 namespace {
 
-constexpr int kVisemeCount = 15;
 constexpr int kExpressionCount = 7;
 
 std::string str(size_t n) { return std::to_string(n); }
