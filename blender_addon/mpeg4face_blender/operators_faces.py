@@ -306,8 +306,8 @@ class MPEG4FACE_OT_map_shape_keys(bpy.types.Operator):
 
 class MPEG4FACE_OT_mirror_shape_key(bpy.types.Operator):
     """Create the left/right partner of the active FAP shape key (fap6 stretch_l_cornerlip
-    -> fap7 stretch_r_cornerlip): each vertex moves as its mirror vertex across X = 0 does,
-    mirrored"""
+    -> fap7 stretch_r_cornerlip): each vertex moves as its mirror vertex does, mirrored,
+    across the plane of symmetry of the left/right feature points (X = 0 without them)"""
 
     bl_idname = "mpeg4face.mirror_shape_key"
     bl_label = "Mirror Shape Key"
@@ -332,16 +332,22 @@ class MPEG4FACE_OT_mirror_shape_key(bpy.types.Operator):
         if refuse_duplicate(self, obj, mirrored.name):
             return {"CANCELLED"}
         basis = basis_coords(obj)
+        with mesh_data.face_bmesh(obj) as bm:
+            fp_vertices, _ = fp_logic.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
+        plane = shape_keys.symmetry_plane(basis, fp_vertices)
         partners = shape_keys.mirror_vertices(
-            basis, fp_logic.mirror_tolerance(basis, self.tolerance))
-        displacement = shape_keys.mirror_displacements(mesh_data.shape_key_coords(key) - basis, partners)
+            basis, fp_logic.mirror_tolerance(basis, self.tolerance), plane)
+        displacement = shape_keys.mirror_displacements(
+            mesh_data.shape_key_coords(key) - basis, partners, plane)
         add_key(obj, mirrored.name, basis + displacement)
         unmatched = np.flatnonzero(partners < 0)
         if len(unmatched):
             listed = ", ".join(map(str, unmatched[:20])) + (" ..." if len(unmatched) > 20 else "")
             self.report({"WARNING"}, f"{len(unmatched)} vertices have no mirror vertex and "
                         f"do not move: {listed}")
-        self.report({"INFO"}, f"Mirrored {key.name} to {mirrored.name}")
+        across = (f"the plane of {plane.pairs} left/right feature point pairs" if plane.pairs
+                  else "X = 0 (no left/right feature point pair is set)")
+        self.report({"INFO"}, f"Mirrored {key.name} to {mirrored.name} across {across}")
         return {"FINISHED"}
 
 

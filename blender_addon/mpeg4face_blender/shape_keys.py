@@ -241,11 +241,53 @@ def mirrored_key(name: str) -> MirroredKey:
     return MirroredKey(key_name("FAP", partner, amplitude), partner, amplitude)
 
 
-def mirror_vertices(coords: npt.ArrayLike, tolerance: float, chunk: int = 1024) -> np.ndarray:
-    """For each vertex, the vertex nearest its mirror image across X = 0 when within
+@dataclass(frozen=True)
+class MirrorPlane:
+    """A face's plane of symmetry: a point on it and its unit normal (the object's axes)."""
+
+    point: Array
+    normal: Array
+    pairs: int  # left/right feature point pairs it was fitted to; 0: the plane X = 0
+
+    def reflect_points(self, points: npt.ArrayLike) -> Array:
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+        return p - 2.0 * ((p - self.point) @ self.normal)[:, None] * self.normal
+
+    def reflect_vectors(self, vectors: npt.ArrayLike) -> Array:
+        v = np.asarray(vectors, dtype=np.float64).reshape(-1, 3)
+        return v - 2.0 * (v @ self.normal)[:, None] * self.normal
+
+
+X_PLANE = MirrorPlane(np.zeros(3), np.array([1.0, 0.0, 0.0]), 0)
+
+
+def symmetry_plane(coords: npt.ArrayLike, fp_vertices: Mapping[str, int]) -> MirrorPlane:
+    """The plane the set left/right feature point pairs (fp_logic.mirror_partners) are
+    mirror images across: through the mean of their midpoints, normal along the mean of their
+    left-to-right directions (each turned towards the widest pair's). X = 0 when no pair with
+    two distinct points is set, so a head modelled about X = 0 mirrors as before."""
+    c = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
+    pairs = [(c[fp_vertices[a]], c[fp_vertices[b]])
+             for a, b in fp_logic.mirror_partners().items()
+             if a < b and a in fp_vertices and b in fp_vertices]
+    pairs = [(p, q) for p, q in pairs if np.linalg.norm(p - q) > 1e-9]
+    if not pairs:
+        return X_PLANE
+    directions = np.array([(p - q) / np.linalg.norm(p - q) for p, q in pairs])
+    widest = directions[int(np.argmax([np.linalg.norm(p - q) for p, q in pairs]))]
+    directions *= np.sign(directions @ widest)[:, None]
+    normal = directions.mean(axis=0)
+    normal *= 1.0 if normal[0] >= 0 else -1.0  # towards +X, as X = 0's: only its plane matters
+    midpoints = np.array([(p + q) / 2 for p, q in pairs])
+    return MirrorPlane(midpoints.mean(axis=0), normal / np.linalg.norm(normal), len(pairs))
+
+
+def mirror_vertices(coords: npt.ArrayLike, tolerance: float, plane: MirrorPlane = X_PLANE,
+                    chunk: int = 1024) -> np.ndarray:
+    """For each vertex, the vertex nearest its mirror image across `plane` when within
     `tolerance`, else -1. Brute force in chunks: memory stays chunk x N."""
     c = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
-    images = c * (-1.0, 1.0, 1.0)
+    images = plane.reflect_points(c)
     out = np.full(len(c), -1, dtype=np.int64)
     for start in range(0, len(c), chunk):
         block = images[start:start + chunk]
@@ -256,11 +298,12 @@ def mirror_vertices(coords: npt.ArrayLike, tolerance: float, chunk: int = 1024) 
     return out
 
 
-def mirror_displacements(displacements: npt.ArrayLike, partners: np.ndarray) -> Array:
-    """Each vertex takes its mirror vertex's displacement with x negated; vertices without a
-    mirror vertex (partners -1) do not move."""
+def mirror_displacements(displacements: npt.ArrayLike, partners: np.ndarray,
+                         plane: MirrorPlane = X_PLANE) -> Array:
+    """Each vertex takes its mirror vertex's displacement reflected across `plane`; vertices
+    without a mirror vertex (partners -1) do not move."""
     d = np.asarray(displacements, dtype=np.float64).reshape(-1, 3)
-    out = d[np.maximum(partners, 0)] * (-1.0, 1.0, 1.0)
+    out = plane.reflect_vectors(d[np.maximum(partners, 0)])
     out[partners < 0] = 0.0
     return out
 

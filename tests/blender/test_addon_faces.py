@@ -142,6 +142,24 @@ def test_mirror_shape_key(head):
         bpy.ops.mpeg4face.mirror_shape_key()
 
 
+def test_mirror_shape_key_of_a_head_off_the_middle(head):
+    """A head modelled away from X = 0 (and turned) mirrors across the plane of its
+    left/right feature points."""
+    from mathutils import Matrix
+
+    obj, fp_vertices = head
+    obj.data.transform(Matrix.Translation((0.25, 0.1, 0)) @ Matrix.Rotation(0.2, 4, "Z"),
+                       shape_keys=True)
+    assert bpy.ops.mpeg4face.add_fap_shape_key(fap="6", amplitude=200) == {"FINISHED"}
+    left, right = fp_vertices["2.4"], fp_vertices["2.5"]
+    turn = np.array(Matrix.Rotation(0.2, 3, "Z"))
+    sculpt(obj, "fap6_stretch_l_cornerlip@200", [left], tuple(turn @ (0.02, -0.01, 0.005)))
+    assert bpy.ops.mpeg4face.mirror_shape_key() == {"FINISHED"}
+    d = displacement(obj, "fap7_stretch_r_cornerlip@200")
+    assert np.allclose(d[right], turn @ (-0.02, -0.01, 0.005), atol=1e-5)
+    assert np.flatnonzero(np.abs(d).max(axis=1) > 0).tolist() == [right]
+
+
 def test_generate_tables(head):
     obj, _ = head
     before = keys_of(obj)

@@ -114,6 +114,33 @@ def test_mirror_candide_is_symmetric(candide):
     assert np.allclose(coords[partners], coords * (-1.0, 1.0, 1.0), atol=1e-3)
 
 
+def test_mirror_plane_follows_the_feature_points(candide):
+    """A head turned and moved off X = 0 mirrors across the plane its left/right feature
+    point pairs give, not across X = 0."""
+    coords, _, fp_vertices = candide
+    angle = np.radians(10)  # about the standard's vertical Y
+    turn = np.array([[np.cos(angle), 0, np.sin(angle)], [0, 1, 0],
+                     [-np.sin(angle), 0, np.cos(angle)]])
+    moved = coords @ turn.T + (0.3, -0.1, 0.2)
+    plane = shape_keys.symmetry_plane(moved, fp_vertices)
+    assert plane.pairs >= 20
+    assert np.allclose(plane.normal, turn @ (1, 0, 0), atol=1e-3)
+    assert abs((np.array([0.3, -0.1, 0.2]) - plane.point) @ plane.normal) < 1e-3
+    partners = shape_keys.mirror_vertices(moved, fp_logic.mirror_tolerance(moved, 0.001), plane)
+    assert (partners >= 0).all()
+    assert np.allclose(moved[partners], plane.reflect_points(moved), atol=2e-3)
+    # Across X = 0 the moved head has almost no mirror vertices.
+    assert (shape_keys.mirror_vertices(moved, fp_logic.mirror_tolerance(moved, 0.001)) < 0).sum() \
+        > len(moved) // 2
+    # A displacement to the left comes back to the right, in the turned frame.
+    d = np.zeros_like(moved)
+    d[fp_vertices["8.3"]] = turn @ (0.05, 0, 0)
+    mirrored = shape_keys.mirror_displacements(d, partners, plane)
+    assert np.allclose(mirrored[fp_vertices["8.4"]], turn @ (-0.05, 0, 0), atol=1e-9)
+    # Without a pair set: X = 0.
+    assert shape_keys.symmetry_plane(moved, {"2.1": fp_vertices["2.1"]}) == shape_keys.X_PLANE
+
+
 def test_face_model_and_report(candide):
     coords, index, fp_vertices = candide
     d = np.zeros_like(coords)
