@@ -133,6 +133,22 @@ FapStream visemeStream(std::span<const TimedPhone> phones, double frameRate,
   for (std::size_t i = phones.size(); i-- > 0;) {
     if (phones[i].phone == kAnticipating) visemes[i] = i + 1 < phones.size() ? visemes[i + 1] : 0;
   }
+  // Lip rounding spreads onto the consonants the tongue alone makes (their lips are free):
+  // ahead from a rounded phone after them ("two", "cool"), else back from one before them
+  // ("boot"); a run of such consonants takes it whole ("clue").
+  const auto tongueOnly = [](int v) { return v == 3 || v == 4 || v == 5 || v == 8; };
+  const auto rounded = [](int v) { return v == 13 || v == 14; };
+  const std::vector<int> own = visemes;
+  for (std::size_t i = phones.size(); i-- > 0;) {
+    if (tongueOnly(own[i]) && i + 1 < phones.size() && rounded(visemes[i + 1])) {
+      visemes[i] = visemes[i + 1];
+    }
+  }
+  for (std::size_t i = 1; i < phones.size(); ++i) {
+    if (tongueOnly(own[i]) && visemes[i] == own[i] && rounded(visemes[i - 1])) {
+      visemes[i] = visemes[i - 1];
+    }
+  }
   FapStream stream;
   stream.frameRate = frameRate;
   const double end = phones.empty() ? 0 : phones.back().end;

@@ -117,6 +117,33 @@ TEST(VisemeStream, TransitionsBlendTheTwoNeighboursAndPausesAreVisemeZero) {
   }
 }
 
+TEST(VisemeStream, LipRoundingSpreadsOntoTongueConsonants) {
+  // The viseme shown in the middle of each phone, at 1000 Hz.
+  const auto middles = [](const std::vector<TimedPhone>& phones) {
+    const FapStream s = visemeStream(phones, 1000);
+    std::vector<int> out;
+    for (const TimedPhone& p : phones) {
+      out.push_back(dominant(s.frames[static_cast<std::size_t>((p.start + p.end) * 500)].viseme));
+    }
+    return out;
+  };
+  // "two": /t/ already rounded for /uw/ (anticipation).
+  EXPECT_EQ(middles(phonesOf({{"pau", 100, -1}, {"t", 100, 0}, {"uw", 200, 0}, {"pau", 100, -1}})),
+            (std::vector<int>{0, 14, 14, 0}));
+  // "clue": the run /k l/ takes it whole.
+  EXPECT_EQ(middles(phonesOf({{"k", 100, 0}, {"l", 100, 0}, {"uw", 200, 0}})),
+            (std::vector<int>{14, 14, 14}));
+  // "boot": /t/ keeps /uw/'s rounding after it (carry-over); "go", /ow/ likewise.
+  EXPECT_EQ(middles(phonesOf({{"b", 100, 0}, {"uw", 200, 0}, {"t", 100, 0}, {"pau", 100, -1}})),
+            (std::vector<int>{1, 14, 14, 0}));
+  EXPECT_EQ(middles(phonesOf({{"ow", 200, 0}, {"n", 100, 0}, {"aa", 200, 0}})),
+            (std::vector<int>{13, 13, 10}));
+  // Unrounded neighbours, or lips that shape the consonant (/s/, /p/): their own viseme.
+  EXPECT_EQ(middles(phonesOf({{"t", 100, 0}, {"aa", 200, 0}, {"s", 100, 0}, {"uw", 200, 0}})),
+            (std::vector<int>{4, 10, 7, 14}));
+  EXPECT_EQ(middles(phonesOf({{"p", 100, 0}, {"uw", 200, 0}})), (std::vector<int>{1, 14}));
+}
+
 TEST(VisemeStream, HhTakesTheNextPhonesVisemeAndBadInputIsNamed) {
   const auto phones = phonesOf({{"pau", 100, -1}, {"hh", 100, 0}, {"uw", 200, 0}});
   const FapStream s = visemeStream(phones, 100);
