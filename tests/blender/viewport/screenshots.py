@@ -174,6 +174,38 @@ def show_shape_key_panels(obj):
     bpy.context.view_layer.objects.active = obj
 
 
+def file_browser_screenshot(operator, name, filepath, panels=()):
+    """The operator's file browser, as the File menu opens it, with its options; closed
+    again afterwards. Returns the labels of `panels` (options sub-panels) that drew."""
+    drawn = set()
+    originals = {panel: panel.draw for panel in panels}
+
+    def noting(draw):
+        def noting_draw(self, context):
+            drawn.add(self.bl_label)
+            draw(self, context)
+        return noting_draw
+
+    for panel, draw in originals.items():
+        panel.draw = noting(draw)
+    windows = set(bpy.context.window_manager.windows[:])
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        operator("INVOKE_DEFAULT", filepath=str(filepath))
+    for _ in range(4):  # the window opens, then lists the folder
+        yield
+    browser = next(w for w in bpy.context.window_manager.windows if w not in windows)
+    with bpy.context.temp_override(window=browser):
+        bpy.ops.screen.screenshot(filepath=str(OUT / name))
+    for panel, draw in originals.items():
+        panel.draw = draw
+    area = next(a for a in browser.screen.areas if a.type == "FILE_BROWSER")
+    with bpy.context.temp_override(window=browser, area=area):
+        bpy.ops.file.cancel()
+    yield
+    return sorted(drawn)
+
+
 def steps():
     simulate(type="ESC", value="PRESS")  # the splash screen
     yield
@@ -220,6 +252,14 @@ def steps():
     yield
     with bpy.context.temp_override(window=window):
         bpy.ops.screen.screenshot(filepath=str(OUT / "blender_sidebar_keys.png"))
+    from mpeg4face_blender import export
+
+    export_panels = yield from file_browser_screenshot(
+        bpy.ops.mpeg4face.export_vrml, "blender_export.png",
+        Path(tempfile.mkdtemp()) / "candide3.wrl",
+        (export.MPEG4FACE_PT_export_head, export.MPEG4FACE_PT_export_tables))
+    yield from file_browser_screenshot(bpy.ops.mpeg4face.import_fap_stream, "blender_import.png",
+                                       DATA / "xface-fap" / "joy.fap")
     a, b = pixels(neutral), pixels(opened)
     result = {
         "neutral_frame": neutral_frame,
@@ -231,6 +271,7 @@ def steps():
         "mouth_change": change(a, b, mouth),
         "forehead_change": change(a, b, forehead),
         "image_size": list(a.shape[:2]),
+        "export_panels": export_panels,
     }
     (OUT / "result.json").write_text(json.dumps(result, indent=1))
 
