@@ -5,11 +5,14 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <map>
+#include <numbers>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
+#include "clone_internal.hpp"
 #include "fat_test_face.hpp"
 #include "mpeg4face/clone.hpp"
 #include "mpeg4face/error.hpp"
@@ -169,6 +172,37 @@ TEST(Clone, CloningOntoAScaledCopyScalesTheMotion) {
         << copies[i].name;
     EXPECT_GT(maxRowNorm(reference), 0) << copies[i].name;
   }
+}
+
+// Pandzic's cylindrical projection (docs/clone.md): the axis is placed so that the mouth
+// corners are 60 degrees apart, the nose tip is at angle 0, and v is the normalised height;
+// alignment space does not change with the head's size or place.
+TEST(Clone, ProjectionFixesTheMouthsAngleAndPutsTheNoseTipAtZero) {
+  const Candide c = candide();
+  const auto alignment = [](const FaceModel& model) {
+    const clone::FaceFrame frame = clone::faceFrame(model, measureFapu(model));
+    std::map<std::string, Eigen::Vector2d> uv;
+    for (const char* id : {"8.3", "8.4", "9.3", "9.15", "2.1", "4.1"}) {
+      uv[id] = clone::project(frame, *model.featurePointPosition(id));
+    }
+    return std::make_pair(frame, uv);
+  };
+  const auto [frame, uv] = alignment(c.neutral);
+  EXPECT_NEAR(uv.at("9.3").x(), 0, 1e-12);  // the nose tip
+  EXPECT_NEAR((uv.at("8.3").x() - uv.at("8.4").x()) / frame.radius, std::numbers::pi / 3, 1e-12);
+  EXPECT_NEAR(uv.at("9.15").y(), 0, 1e-12);  // v: height from 9.15 in ENS0
+  const FapuMeasurement fapu = measureFapu(c.neutral);
+  EXPECT_NEAR(
+      uv.at("2.1").y(),
+      (c.neutral.featurePointPosition("2.1")->y() - c.neutral.featurePointPosition("9.15")->y()) /
+          fapu.ENS0.value,
+      1e-12);
+  EXPECT_GT(uv.at("8.3").x(), 0);  // the face's left is on the +u side
+  // Scaled by 2.5 and moved: the same alignment space.
+  FaceModel moved = c.neutral;
+  moved.meshes[0].coord = (moved.meshes[0].coord * 2.5).rowwise() + Eigen::RowVector3d(1, -2, 3);
+  const auto [movedFrame, movedUv] = alignment(moved);
+  for (const auto& [id, point] : uv) EXPECT_LE((movedUv.at(id) - point).norm(), 1e-12) << id;
 }
 
 // The lip rule: on CANDIDE's closed mouth the inner upper lip (2.2) and inner lower lip (2.3)
