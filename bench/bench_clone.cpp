@@ -140,8 +140,8 @@ int main(int argc, char** argv) {
   }
 
   if (only != 0) return 0;
-  // Smoothness: a 25k source with per-vertex detail onto a decimated target (1,000 vertices)
-  // and onto a denser one (6,000).
+  // Smoothness: a 25k source with per-vertex detail onto two coarser targets (1,000 and 6,000
+  // vertices); a denser target is CloneSmoothness.DenserTargetGetsSmoothMotion's case.
   const FaceModel source = fixture::resampled(base, 25000);
   const std::vector<DeformedCopy> copies = fixture::syntheticCopies(source, 1.0);
   std::printf(
