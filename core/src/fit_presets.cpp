@@ -3,7 +3,9 @@
 #include "mpeg4face/fit_presets.hpp"
 
 #include <array>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "mpeg4face/error.hpp"
 
@@ -24,11 +26,14 @@ constexpr std::array<int, 27> kExpressionFaps{3,  4,  5,  6,  7,  8,  9,  10, 11
 // Each expression's low-level FAPs at full intensity (63), FAPU; the rest 0. Our own
 // estimates from the expressions' descriptions (ISO/IEC 14496-2 Table C-3): a starting point
 // for `mpeg4face fit learn`, which fits them to a real face's data.
-struct ExpressionShape {
-  int expression;
-  std::array<std::pair<int, int>, 12> faps;
+// A viseme's or an expression's low-level FAPs at its full amount (63), FAPU.
+template <std::size_t N>
+struct SelectShape {
+  int select;
+  std::array<std::pair<int, int>, N> faps;
 };
-constexpr std::array<ExpressionShape, 6> kExpressionShapes{{
+
+constexpr std::array<SelectShape<12>, 6> kExpressionShapes{{
     {1, {{{6, 250}, {7, 250}, {12, 200}, {13, 200}, {4, -50}, {21, 150}, {22, 150}}}},  // joy
     {2,
      {{{12, -150},
@@ -89,11 +94,7 @@ constexpr std::array<int, 7> kVisemeFaps{3, 4, 5, 6, 7, 16, 17};
 // estimates from the visemes' phonemes (Tekalp-Ostermann Table 3; docs/fit.md): open vowels
 // open the jaw, rounded ones narrow and push the lips, /p b m/ presses them, /f v/ lifts the
 // lower lip to the teeth.
-struct VisemeShape {
-  int viseme;
-  std::array<std::pair<int, int>, 5> faps;
-};
-constexpr std::array<VisemeShape, 14> kVisemeShapes{{
+constexpr std::array<SelectShape<5>, 14> kVisemeShapes{{
     {1, {{{4, 40}, {5, 40}}}},                                       // p, b, m
     {2, {{{3, 60}, {5, 150}, {16, -80}}}},                           // f, v
     {3, {{{3, 120}, {5, 40}}}},                                      // T, D
@@ -109,6 +110,32 @@ constexpr std::array<VisemeShape, 14> kVisemeShapes{{
     {13, {{{3, 300}, {6, -140}, {7, -140}, {16, 80}, {17, 80}}}},    // Q
     {14, {{{3, 140}, {6, -200}, {7, -200}, {16, 140}, {17, 140}}}},  // U
 }};
+
+// One link from FAP 1 or 2 to `faps`: each FAP's function sums, over the shapes that move
+// it, terms(p, select) with p its value in the shape / 63 (the selects' impulse terms).
+template <std::size_t N, std::size_t M, class Terms>
+FitTable selectFitTable(int fap, std::span<const int> faps,
+                        const std::array<SelectShape<N>, M>& shapes, Terms terms) {
+  FitTable table;
+  const int parent = addFitNode(table, {fap});
+  const int child = addFitNode(table, {faps.begin(), faps.end()});
+  const int link = addFitLink(table, parent, child);
+  const std::size_t variables = fitVariables({fap}).size();
+  for (int derived : faps) {
+    FitFunction f;
+    f.denominator.push_back({1.0, std::vector<int>(variables, 0)});
+    for (const SelectShape<N>& shape : shapes) {
+      for (const auto& [id, value] : shape.faps) {
+        if (id != derived || value == 0) continue;
+        for (FitTerm& term : terms(value / 63.0, shape.select)) {
+          f.numerator.push_back(std::move(term));
+        }
+      }
+    }
+    setFitFunction(table, link, derived, f);
+  }
+  return table;
+}
 
 }  // namespace
 
@@ -155,52 +182,23 @@ FitTable eyebrowFitTable() {
 std::span<const int> expressionFitFaps() { return kExpressionFaps; }
 
 FitTable expressionFitTable() {
-  FitTable table;
-  const int parent = addFitNode(table, {2});
-  const int child = addFitNode(table, {kExpressionFaps.begin(), kExpressionFaps.end()});
-  const int link = addFitLink(table, parent, child);
   // Variables of {2}: select1, select2, intensity1, intensity2.
-  for (int fap : kExpressionFaps) {
-    FitFunction f;
-    f.denominator.push_back({1.0, {0, 0, 0, 0}});
-    for (const ExpressionShape& shape : kExpressionShapes) {
-      for (const auto& [id, value] : shape.faps) {
-        if (id != fap || value == 0) continue;
-        const double p = value / 63.0;
-        f.numerator.push_back({p, {0, 0, 1, 0}, kExpressionSelect1, shape.expression});
-        f.numerator.push_back({p, {0, 0, 0, 1}, kExpressionSelect2, shape.expression});
-      }
-    }
-    setFitFunction(table, link, fap, f);
-  }
-  return table;
+  return selectFitTable(2, kExpressionFaps, kExpressionShapes, [](double p, int expression) {
+    return std::vector<FitTerm>{{p, {0, 0, 1, 0}, kExpressionSelect1, expression},
+                                {p, {0, 0, 0, 1}, kExpressionSelect2, expression}};
+  });
 }
 
 std::span<const int> visemeFitFaps() { return kVisemeFaps; }
 
 FitTable visemeFitTable() {
-  FitTable table;
-  const int parent = addFitNode(table, {1});
-  const int child = addFitNode(table, {kVisemeFaps.begin(), kVisemeFaps.end()});
-  const int link = addFitLink(table, parent, child);
   // Variables of {1}: select1, select2, blend. Viseme select1 is shown by blend / 63, select2
   // by (63 - blend) / 63, as a FaceDefTables for FAP 1 shows them.
-  for (int fap : kVisemeFaps) {
-    FitFunction f;
-    f.denominator.push_back({1.0, {0, 0, 0}});
-    for (const VisemeShape& shape : kVisemeShapes) {
-      for (const auto& [id, value] : shape.faps) {
-        if (id != fap || value == 0) continue;
-        const double p = value / 63.0;
-        f.numerator.push_back({p, {0, 0, 1}, kVisemeSelect1, shape.viseme});
-        f.numerator.push_back(
-            {static_cast<double>(value), {0, 0, 0}, kVisemeSelect2, shape.viseme});
-        f.numerator.push_back({-p, {0, 0, 1}, kVisemeSelect2, shape.viseme});
-      }
-    }
-    setFitFunction(table, link, fap, f);
-  }
-  return table;
+  return selectFitTable(1, kVisemeFaps, kVisemeShapes, [](double p, int viseme) {
+    return std::vector<FitTerm>{{p, {0, 0, 1}, kVisemeSelect1, viseme},
+                                {63 * p, {0, 0, 0}, kVisemeSelect2, viseme},
+                                {-p, {0, 0, 1}, kVisemeSelect2, viseme}};
+  });
 }
 
 std::span<const std::string_view> fitPresetNames() {
