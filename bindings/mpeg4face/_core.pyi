@@ -266,13 +266,47 @@ class MorphWeightChannel:
         weights: _ArrayLike | None = None,
     ) -> None: ...
 
+class TransformChannel:
+    class Path(enum.Enum):
+        TRANSLATION = 0
+        ROTATION = 1
+        SCALE = 2
+    transform: int
+    path: Path
+    interpolation: MorphWeightChannel.Interpolation
+    @property
+    def times(self) -> _Float64: ...
+    @times.setter
+    def times(self, value: _ArrayLike | None) -> None: ...
+    @property
+    def values(self) -> _Float64: ...
+    @values.setter
+    def values(self, value: _ArrayLike | None) -> None: ...
+    def __init__(
+        self,
+        transform: int = 0,
+        path: Path = ...,
+        interpolation: MorphWeightChannel.Interpolation = ...,
+        times: _ArrayLike | None = None,
+        values: _ArrayLike | None = None,
+    ) -> None: ...
+
 class MorphWeightAnimation:
     name: str
     @property
     def channels(self) -> list[MorphWeightChannel]: ...
     @channels.setter
     def channels(self, value: Iterable[MorphWeightChannel] | None) -> None: ...
-    def __init__(self, name: str = "", channels: Iterable[MorphWeightChannel] | None = None) -> None: ...
+    @property
+    def transform_channels(self) -> list[TransformChannel]: ...
+    @transform_channels.setter
+    def transform_channels(self, value: Iterable[TransformChannel] | None) -> None: ...
+    def __init__(
+        self,
+        name: str = "",
+        channels: Iterable[MorphWeightChannel] | None = None,
+        transform_channels: Iterable[TransformChannel] | None = None,
+    ) -> None: ...
 
 class FaceModel:
     @property
