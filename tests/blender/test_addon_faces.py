@@ -170,11 +170,12 @@ def test_generate_tables(head):
     assert report.copies == 1 and report.ignored == ["Smirk"]
 
 
-def test_export_vrml_and_gltf(head, tmp_path):
+def test_export_vrml_and_gltf(head, tmp_path, progress):
     obj, fp_vertices = head
     wrl, glb = tmp_path / "head.wrl", tmp_path / "head.glb"
     assert bpy.ops.mpeg4face.export_vrml(filepath=str(wrl)) == {"FINISHED"}
     assert bpy.ops.mpeg4face.export_gltf(filepath=str(glb)) == {"FINISHED"}
+    assert progress == ([2, 2], [1, 2, 1, 2])  # the tables generated, then the file written
     face = mpeg4face.read_vrml(wrl)
     [table] = face.tables
     assert table["fap"] == 3 and table["meshes"][0]["vertices"] == 1
