@@ -63,11 +63,6 @@ def _pose_channels(matrices: list[Matrix]) -> list[mpeg4face.TransformChannel]:
     return channels
 
 
-def _relative(head: Matrix, objects: list[Matrix], neutral_head: Matrix) -> list[Matrix]:
-    """The head's matrix from its neutral one, and each part's from the head's at the time."""
-    return [neutral_head.inverted() @ head] + [head.inverted() @ m for m in objects]
-
-
 def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], Iterable[str]],
                scene: bpy.types.Scene) -> tuple[mpeg4face.FaceModel, list[str]]:
     """The head and its parts (meshes, feature points, the shape keys key_names(object)
@@ -90,26 +85,32 @@ def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], I
                 continue
             bindings[fp] = mpeg4face.FeaturePointBinding(index, vertex)
 
-    def matrices() -> tuple[Matrix, list[Matrix]]:
-        return head.matrix_world.copy(), [o.matrix_world.copy() for o in objects[1:]]
+    def transform_matrices(neutral_head: Matrix) -> list[Matrix]:
+        """At the current frame: the head's matrix from its neutral one, and each part's
+        from the head's."""
+        now = head.matrix_world
+        return [neutral_head.inverted() @ now] + [now.inverted() @ o.matrix_world
+                                                 for o in objects[1:]]
 
     was = scene.frame_current, scene.frame_subframe
     try:
         scene.frame_set(neutral_frame(scene))
-        neutral_head, neutral_parts = matrices()
+        neutral_head = head.matrix_world.copy()
+        # The head is its own neutral: exactly the identity, not a float32 round trip.
+        neutral = [Matrix.Identity(4), *transform_matrices(neutral_head)[1:]]
         posed = []
         for marker in pose_markers(scene):
             scene.frame_set(marker.frame)
-            posed.append((marker.name, _relative(*matrices(), neutral_head)))
+            posed.append((marker.name, transform_matrices(neutral_head)))
     finally:
         scene.frame_set(was[0], subframe=was[1])
 
-    transforms = [mpeg4face.Transform(head.name, meshes=[0],
-                                      children=list(range(1, len(objects))))]
-    for index, (obj, matrix) in enumerate(zip(objects[1:], neutral_parts), start=1):
-        translation, rotation, scale = _fields(neutral_head.inverted() @ matrix)
-        transforms.append(mpeg4face.Transform(obj.name, translation=translation,
-                                              rotation=rotation, scale=scale, meshes=[index]))
+    transforms = []
+    for index, (obj, matrix) in enumerate(zip(objects, neutral)):
+        translation, rotation, scale = _fields(matrix)
+        transforms.append(mpeg4face.Transform(
+            obj.name, translation=translation, rotation=rotation, scale=scale, meshes=[index],
+            children=list(range(1, len(objects))) if index == 0 else []))
     animations = [mpeg4face.MorphWeightAnimation(name, transform_channels=_pose_channels(m))
                   for name, m in posed]
     model = mpeg4face.FaceModel(meshes=meshes, transforms=transforms, roots=[0],
