@@ -128,7 +128,7 @@ Source readSource(const Args& args, std::vector<std::string>& warnings) {
   bindFeaturePoints(args.sourceFeaturePoints, model, warnings);
   ShapeKeyCopies keys = deformedCopiesFromShapeKeys(model);
   for (const std::string& name : keys.ignored) {
-    warnings.push_back("source shape key '" + name +
+    warnings.push_back("source shape key or animation '" + name +
                        "' is not a FAP, viseme or expression: ignored");
   }
   if (keys.copies.empty()) {

@@ -141,7 +141,8 @@ int runFat(const std::vector<std::string>& rawArgs) {
                 intervals.c_str(), vertices, t.faceDefTransform.size());
   }
   for (const std::string& name : generated.ignored) {
-    warnings.push_back("morph target '" + name + "' is not a FAP, viseme or expression: ignored");
+    warnings.push_back("morph target or animation '" + name +
+                       "' is not a FAP, viseme or expression: ignored");
   }
   warnings.insert(warnings.end(), generated.warnings.begin(), generated.warnings.end());
   for (const std::string& w : warnings) std::printf("warning: %s\n", w.c_str());
@@ -170,8 +171,12 @@ int runApply(const std::vector<std::string>& rawArgs) {
   const FapuMeasurement fapu = measureFapu(face.faceSceneGraph);
   // As a decoder does: the Face node's FIT derives what the stream does not send.
   if (face.fit) {
-    const int derived = interpolateFitStream(*face.fit, stream);
-    std::printf("%s: the face's FIT derived %d FAP values\n", args.files[0].c_str(), derived);
+    try {
+      const int derived = interpolateFitStream(*face.fit, stream);
+      std::printf("%s: the face's FIT derived %d FAP values\n", args.files[0].c_str(), derived);
+    } catch (const Error& e) {
+      throw Error(args.files[0], 0, "Face.fit " + e.field(), e.reason());
+    }
   }
 
   if (!args.frame) {

@@ -18,6 +18,7 @@
 #include "mpeg4face/fapu.hpp"
 #include "mpeg4face/feature_point_csv.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "mpeg4face/fit.hpp"
 #include "mpeg4face/fit_json.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/obj.hpp"
@@ -300,6 +301,29 @@ TEST(CliFat, CandideUnitsWithAVisemeFitSpeakAVisemeStream) {
       runCli("fat generate " + wfm + " --feature-points " + csv + " -o " + plain.string()).status,
       0);
   EXPECT_EQ(appliedFrame(plain, fba, 1, "wrote"), appliedFrame(plain, fba, 0, "wrote"));
+
+  // A FIT that fails on the stream (f = 100 / F at F = 0) names the face and the frame;
+  // nothing is written.
+  FitTable divides;
+  const int link = addFitLink(divides, addFitNode(divides, {33}), addFitNode(divides, {31}));
+  setFitFunction(divides, link, 31, {{FitTerm{100, {0}}}, {FitTerm{1, {1}}}});
+  writeFitJson(divides, dir / "divides.json");
+  const std::filesystem::path divided = dir / "divided.wrl";
+  ASSERT_EQ(runCli("fat generate " + wfm + " --feature-points " + csv + " --fit " +
+                   (dir / "divides.json").string() + " -o " + divided.string())
+                .status,
+            0);
+  FapStream brows;
+  brows.frames.resize(1);
+  brows.frames[0].set(33, 0);
+  writeFapFile(dir / "brows.fap", brows);
+  r = runCli("apply " + divided.string() + " " + (dir / "brows.fap").string() + " -o " +
+             (dir / "brows.glb").string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("divided.wrl"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Face.fit frame 0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("denominator is 0"), std::string::npos) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "brows.glb"));
 
   // The units need the FAPU: without feature points the file and the unit are named.
   r = runCli("fat generate " + wfm + " -o " + (dir / "none.wrl").string());
