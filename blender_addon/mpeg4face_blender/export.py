@@ -130,8 +130,8 @@ class MPEG4FACE_PT_export_tables(_ExportOptions, bpy.types.Panel):
         layout.prop(operator, "threshold")
 
 
-# The operators' idnames as the file browser's active_operator gives them.
-EXPORTERS = {"MPEG4FACE_OT_export_vrml", "MPEG4FACE_OT_export_gltf"}
+# The operators' idnames as the file browser's active_operator gives them: the class names.
+EXPORTERS = {cls.__name__ for cls in (MPEG4FACE_OT_export_vrml, MPEG4FACE_OT_export_gltf)}
 
 
 def _menu(self, context: bpy.types.Context) -> None:
