@@ -99,6 +99,7 @@ __all__ = [
     "read_fap",
     "write_fap",
     "read_fap_stream",
+    "write_file_atomically",
     "encode_fba",
     "decode_fba",
     "psnr",

@@ -305,6 +305,16 @@ void bindFiles(py::module_& m) {
   m.def("read_fap_stream", &readFapStream, "path"_a,
         "Reads a .fap file or decodes a .fba file (named after the file).",
         py::call_guard<py::gil_scoped_release>());
+  m.def(
+      "write_file_atomically",
+      [](const Path& path, const py::bytes& data) {
+        std::string contents = data;
+        py::gil_scoped_release release;
+        writeFileAtomically(path, contents);
+      },
+      "path"_a, "data"_a,
+      "Writes bytes (e.g. FbaEncoding.data) through a temporary file beside `path` and a "
+      "rename, as the core writes its files: a failure leaves `path` as it was.");
 }
 
 void bindSpeech(py::module_& m) {

@@ -335,7 +335,7 @@ class MPEG4FACE_OT_encode_fap_stream(bpy.types.Operator, ExportHelper):
             return {"CANCELLED"}
         try:
             encoding = mpeg4face.encode_fba(stream, self.mode, self.fap_quant)
-            stream_logic.write_atomically(self.filepath, encoding.data)
+            mpeg4face.write_file_atomically(self.filepath, encoding.data)
         except INPUT_ERRORS as error:
             self.report({"ERROR"}, f"Cannot encode: {error}")
             return {"CANCELLED"}

@@ -10,11 +10,8 @@ expression1@40); the Basis and other keys are not driven.
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import mpeg4face
 import numpy as np
@@ -242,17 +239,3 @@ def encoding_summary(bits: int, bits_per_second: float, psnr: float | None) -> s
         quality = f"PSNR {psnr:.2f} dB"
     return f"{bits} bits, {bits_per_second:.1f} bit/s, {quality}"
 
-
-def write_atomically(path: str | os.PathLike, data: bytes) -> None:
-    """Writes `data` to a temporary file beside `path`, then renames it over `path`: a failure
-    leaves `path` as it was and no partial file (as the core writes its files)."""
-    target = Path(path)
-    handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
-                                         suffix=".part")
-    try:
-        with os.fdopen(handle, "wb") as out:
-            out.write(data)
-        os.replace(temporary, target)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise

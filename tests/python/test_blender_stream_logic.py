@@ -154,16 +154,3 @@ def test_encoding_summary():
     assert sl.encoding_summary(0, 0.0, None).endswith("no PSNR")
     assert sl.encoding_summary(0, 0.0, float("nan")).endswith("no PSNR")
 
-
-def test_write_atomically(tmp_path):
-    target = tmp_path / "coded.fba"
-    sl.write_atomically(target, b"first")
-    sl.write_atomically(target, b"second")
-    assert target.read_bytes() == b"second"
-    # A failure while writing leaves the old file and nothing beside it.
-    with pytest.raises(TypeError):
-        sl.write_atomically(target, "not bytes")
-    assert target.read_bytes() == b"second"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["coded.fba"]
-    with pytest.raises(FileNotFoundError):
-        sl.write_atomically(tmp_path / "no folder" / "x.fba", b"x")

@@ -132,3 +132,18 @@ def test_speak(tmp_path):
         mpeg4face.speak("Hello <FAP 2 1 40> world", tmp_path / "bad.wav")
     with pytest.raises(mpeg4face.Error, match="install Debian's flite"):
         mpeg4face.speak("Hello", tmp_path / "none.wav", program="/no/flite")
+
+
+def test_write_file_atomically(tmp_path):
+    target = tmp_path / "coded.fba"
+    mpeg4face.write_file_atomically(target, b"first")
+    mpeg4face.write_file_atomically(target, b"second")
+    assert target.read_bytes() == b"second"
+    # A failure leaves the old file and nothing beside it.
+    with pytest.raises(TypeError):
+        mpeg4face.write_file_atomically(target, "not bytes")
+    assert target.read_bytes() == b"second"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["coded.fba"]
+    with pytest.raises(mpeg4face.Error, match="cannot open for writing") as error:
+        mpeg4face.write_file_atomically(tmp_path / "no folder" / "x.fba", b"x")
+    assert error.value.file.endswith("x.fba")
