@@ -86,6 +86,7 @@ __all__ = [
     "read_obj",
     "read_wfm",
     "candide_to_face_model",
+    "name_candide_fap_units",
     "read_feature_point_csv",
     # FAPU
     "FapuDistance",

@@ -176,6 +176,22 @@ void bindReadersAndWriters(py::module_& m) {
       "The CANDIDE model as a FaceModel whose mesh carries every animation unit as a morph "
       "target named after the unit (dense displacements at unit value 1).");
   m.def(
+      "name_candide_fap_units",
+      [](py::handle model, const PyCandideModel& candide) {
+        FaceModel core = toCore(asFaceModel(model, "name_candide_fap_units"));
+        const CandideModel source = toCore(candide);
+        {
+          py::gil_scoped_release release;
+          nameCandideFapUnits(core, source);
+        }
+        return py::cast(fromCore(std::move(core)));
+      },
+      "model"_a, "candide"_a,
+      "candide_to_face_model's model (with its feature points bound) with CANDIDE's MPEG-4 "
+      "animation units renamed and scaled into the shape-key grammar (fap<N>_<name>@1000, and "
+      "@-1000 for a bidirectional FAP; docs/fat.md), as fat generate reads a .wfm. Returns a "
+      "new FaceModel.");
+  m.def(
       "read_feature_point_csv",
       [](const Path& path, py::handle model) {
         const FaceModel core = toCore(asFaceModel(model, "read_feature_point_csv"));

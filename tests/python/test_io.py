@@ -69,6 +69,27 @@ def test_candide_to_face_model(candide_dir):
         mpeg4face.candide_to_face_model(candide)
 
 
+
+def test_name_candide_fap_units(candide_dir):
+    candide = mpeg4face.read_wfm(candide_dir / "candide3.wfm")
+    model = mpeg4face.candide_to_face_model(candide)
+    with pytest.raises(mpeg4face.Error, match="not measured"):
+        mpeg4face.name_candide_fap_units(model, candide)  # no feature points, no FAPU
+    points, _ = mpeg4face.read_feature_point_csv(candide_dir / "feature_points.csv", model)
+    model.feature_points = points
+    named = mpeg4face.name_candide_fap_units(model, candide)
+    fapu = mpeg4face.measure_fapu(named)
+    by_name = {t.name: t for t in named.meshes[0].morph_targets}
+    jaw = next(u for u in candide.animation_units if u.fap == 3)
+    # open_jaw (MNS, unidirectional) at 1000 moves its vertices 1000 * MNS * the unit's offset.
+    target = by_name["fap3_open_jaw@1000"]
+    expected = np.zeros((113, 3))
+    np.add.at(expected, jaw.vertices, jaw.displacements)
+    np.testing.assert_allclose(target.displacements, 1000 * fapu.unit("MNS") * expected, rtol=1e-12)
+    assert "fap3_open_jaw@-1000" not in by_name
+    assert all(mpeg4face.parse_shape_key_name(name) for name in by_name if name.startswith("fap"))
+    assert named is not model and model.meshes[0].morph_targets[0].name == candide.animation_units[0].name
+
 def test_feature_point_csv(candide_dir, candide):
     points, warnings = mpeg4face.read_feature_point_csv(
         candide_dir / "feature_points.csv", candide)
