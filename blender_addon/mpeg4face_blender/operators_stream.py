@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """FAP streams on a head mesh: baking a stream into shape-key animation, the live preview
-(the face's tables evaluated by the core on each frame change), encoding the imported
-stream, and speaking text onto the face. The import operator (import_stream.py) and the
-speech operator bake through bake_stream(). Every operator checks its input and reports
-problems in the UI instead of raising."""
+(the tables of the whole face, head, parts and poses, evaluated by the core on each frame
+change), encoding the imported stream, and speaking text onto the face. The import
+operator (import_stream.py) and the speech operator bake through bake_stream(). Every
+operator checks its input and reports problems in the UI instead of raising."""
 
+import functools
 import hashlib
 import math
 import tempfile
@@ -19,9 +20,12 @@ from bpy_extras.io_utils import ExportHelper
 
 import mpeg4face
 
-from . import compat, fp_logic, mesh_data, operators, stream_logic
+from . import compat, fp_logic, mesh_data, operators, poses, stream_logic
 
 LIVE_KEY = "MPEG-4 live"  # the shape key the live preview writes; not in the grammar
+# The reference key the preview adds to a part without shape keys (LIVE_KEY needs one);
+# named so that stopping knows it can go, in a saved file or after Undo too.
+LIVE_BASIS = "MPEG-4 live basis"
 ACTION_GROUP = "MPEG-4 FAP stream"
 SPEECH_STRIP = "MPEG-4 speech"
 # What the core may raise for a bad file or face, shown as a report instead of a traceback.
@@ -59,8 +63,7 @@ def stream_mesh(op: bpy.types.Operator, context: bpy.types.Context
     if obj.mode != "OBJECT":
         op.report({"ERROR"}, "Switch to Object Mode (shape keys are read from the mesh)")
         return None
-    blocks = obj.data.shape_keys.key_blocks if obj.data.shape_keys else ()
-    keys = stream_logic.face_keys(b.name for b in blocks)
+    keys = grammar_keys(obj)
     for problem in keys.malformed:
         op.report({"WARNING"}, f"Shape key {problem}")
     if not keys.keys:
@@ -68,6 +71,12 @@ def stream_mesh(op: bpy.types.Operator, context: bpy.types.Context
                   "viseme<N> or expression<N>[@<intensity>] (see docs/fat.md)")
         return None
     return obj, keys
+
+
+def grammar_keys(obj: bpy.types.Object) -> stream_logic.FaceKeys:
+    """The object's shape keys named in the grammar (and the malformed ones)."""
+    blocks = obj.data.shape_keys.key_blocks if obj.data.shape_keys else ()
+    return stream_logic.face_keys(b.name for b in blocks)
 
 
 def read_stream(op: bpy.types.Operator, path: str, fit_path: str = ""
@@ -152,17 +161,28 @@ def remember_stream(obj: bpy.types.Object, path: str, fit_path: str, start: int,
 
 
 @dataclass
+class LiveObject:
+    """An object of a live face (object i of [head, *parts], mesh i of its model)."""
+
+    name: str
+    chain: tuple[int, ...]  # the Transforms from the head's down to the one holding its mesh
+    unposed: np.ndarray  # (4, 4): the inverse of the chain's neutral matrix
+    restore: tuple[bool, int]  # show_only_shape_key, active_shape_key_index
+
+
+@dataclass
 class LiveState:
-    """The live preview of one object: its face's tables and the stream, played from the
-    scene frame `start` at the scene's frame rate (sample and hold)."""
+    """The live preview of one head: its face's tables and the stream, played from the
+    scene frame `start` at the scene's frame rate (sample and hold), on its objects."""
 
     evaluator: mpeg4face.FatEvaluator
     stream: mpeg4face.FapStream
     start: int
-    restore: tuple[bool, int]  # show_only_shape_key, active_shape_key_index
+    centers: list[np.ndarray]  # per Transform: the center the evaluation leaves as it is
+    objects: list[LiveObject]
 
 
-_live: dict[str, LiveState] = {}  # object name -> state
+_live: dict[str, LiveState] = {}  # head object name -> state
 
 
 def is_live(obj: bpy.types.Object) -> bool:
@@ -172,63 +192,140 @@ def is_live(obj: bpy.types.Object) -> bool:
 
 def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
                stream: mpeg4face.FapStream, start: int) -> list[str]:
-    """Builds the face's tables from the shape keys (generate_face), then shows the stream
-    through the core's evaluator: the exact MPEG-4 result, visemes and expressions with the
-    standard's priorities included. The result is written into a shape key LIVE_KEY shown
-    alone (show_only_shape_key), so the Basis and the other keys are never changed.
-    Returns generate_face's warnings; raises mpeg4face.Error for a face it refuses."""
+    """Builds the tables of the whole face (generate_face on poses.face_model: the head's
+    grammar keys `keys`, its parts' grammar keys and the pose markers), then shows the
+    stream through the core's evaluator: the exact MPEG-4 result, visemes and expressions
+    with the standard's priorities included, eyes, jaw and head moved by their Transforms.
+    Each object of the face shows its result in a shape key LIVE_KEY shown alone
+    (show_only_shape_key), so the Basis, the other keys and the objects' matrices (which
+    the pose keyframes drive) are never changed. Returns generate_face's warnings; raises
+    mpeg4face.Error for a face it refuses, ValueError for objects sharing a mesh."""
     stop_live(obj)
-    model, _ = mesh_data.face_model(obj, [k.name for k in keys.keys])
+    objects = [obj, *poses.parts(obj)]
+    _refuse_shared_meshes(objects)
+
+    def key_names(o: bpy.types.Object) -> list[str]:
+        return [k.name for k in (keys if o == obj else grammar_keys(o)).keys]
+
+    model, _ = poses.face_model(obj, key_names, scene)
     generated = mpeg4face.generate_face(model)
+    neutral = [t.local_matrix() for t in model.transforms]
+    live_objects = []
+    for index, o in enumerate(objects):
+        # poses.face_model makes each part (Transform i, holding mesh i) a child of the
+        # head's Transform 0.
+        chain = (0,) if index == 0 else (0, index)
+        live_objects.append(LiveObject(o.name, chain, np.linalg.inv(_product(neutral, chain)),
+                                       (o.show_only_shape_key, o.active_shape_key_index)))
+        _add_live_key(o)
     state = LiveState(mpeg4face.FatEvaluator(generated["face"]), stream, start,
-                      (obj.show_only_shape_key, obj.active_shape_key_index))
-    obj.shape_key_add(name=LIVE_KEY, from_mix=False)
-    obj.show_only_shape_key = True
-    obj.active_shape_key_index = obj.data.shape_keys.key_blocks.find(LIVE_KEY)
+                      [t.center for t in model.transforms], live_objects)
     _live[obj.name] = state
     if _on_frame_change not in bpy.app.handlers.frame_change_pre:
         bpy.app.handlers.frame_change_pre.append(_on_frame_change)
-    _show(obj, state, scene)
+    _show(state, scene)
     return list(generated["warnings"])
 
 
+def _refuse_shared_meshes(objects: list[bpy.types.Object]) -> None:
+    # Shape keys belong to the mesh: two objects of one mesh would show one live key.
+    owners: dict[int, str] = {}
+    for o in objects:
+        first = owners.setdefault(o.data.as_pointer(), o.name)
+        if first != o.name:
+            raise ValueError(f"{first} and {o.name} share the mesh {o.data.name}: the live "
+                             "preview needs a mesh for each (Object > Relations > Make "
+                             "Single User)")
+
+
+def _product(matrices: list[np.ndarray], chain: tuple[int, ...]) -> np.ndarray:
+    return functools.reduce(np.matmul, (matrices[i] for i in chain))
+
+
+def _add_live_key(obj: bpy.types.Object) -> None:
+    if obj.data.shape_keys is None:  # a part without shape keys
+        obj.shape_key_add(name=LIVE_BASIS, from_mix=False)
+    obj.shape_key_add(name=LIVE_KEY, from_mix=False)
+    obj.show_only_shape_key = True
+    obj.active_shape_key_index = obj.data.shape_keys.key_blocks.find(LIVE_KEY)
+
+
 def stop_live(obj: bpy.types.Object) -> None:
-    """Ends the object's live preview: the live key goes, the Basis (and the baked keys, if
-    any) show again. Also cleans up a live key left in a saved file."""
+    """Ends the live preview of the head `obj`: the live keys of the face go (and the
+    LIVE_BASIS when nothing else is left beside it), the Basis (and the baked keys, if any)
+    show again. Also cleans up live keys left in a saved file."""
     state = _live.pop(obj.name, None)
+    if state is None:
+        objects = [(o, None) for o in (obj, *poses.parts(obj))]
+    else:
+        objects = [(bpy.data.objects.get(o.name), o.restore) for o in state.objects]
+    for o, restore in objects:
+        if o is not None and o.type == "MESH":
+            _remove_live_key(o, restore)
+    _remove_handler_when_idle()
+
+
+def _remove_live_key(obj: bpy.types.Object, restore: tuple[bool, int] | None) -> None:
+    """Removes the object's live key (and the LIVE_BASIS when nothing else is left beside
+    it) and shows its shape keys as `restore` says (as they were), or, without it, the
+    Basis."""
     key = obj.data.shape_keys
     live = key.key_blocks.get(LIVE_KEY) if key else None
     if live is not None:
         obj.shape_key_remove(live)
-    if state is not None:
-        obj.show_only_shape_key, obj.active_shape_key_index = state.restore
+        if len(key.key_blocks) == 1 and key.reference_key.name == LIVE_BASIS:
+            obj.shape_key_clear()
+    if restore is not None:
+        obj.show_only_shape_key, obj.active_shape_key_index = restore
     elif live is not None:
         obj.show_only_shape_key, obj.active_shape_key_index = False, 0
     obj.data.update()
-    _remove_handler_when_idle()
 
 
-def _show(obj: bpy.types.Object, state: LiveState, scene: bpy.types.Scene) -> None:
+def _live_objects(state: LiveState) -> list[bpy.types.Object] | None:
+    """The face's objects; None when one is gone or has lost its live key (by Undo, say)."""
+    objects = [bpy.data.objects.get(o.name) for o in state.objects]
+    for o in objects:
+        key = o.data.shape_keys if o is not None and o.type == "MESH" else None
+        if key is None or LIVE_KEY not in key.key_blocks:
+            return None
+    return objects
+
+
+def _show(state: LiveState, scene: bpy.types.Scene) -> bool:
+    """Writes the evaluation at the scene's frame into the live keys; False (and nothing
+    written) when _live_objects finds the face incomplete.
+
+    An object's vertices are shown where the evaluated Transforms put them (L0 @ Li @
+    coord), taken back through its neutral Transforms (inverse(N0 @ Ni)) into its own
+    frame: the object stays where it is and the key carries the turn of an eye, the drop of
+    the teeth with the jaw or a nod of the head."""
+    objects = _live_objects(state)
+    if objects is None:
+        return False
     seconds = (scene.frame_current - state.start) / scene_rate(scene)
     index = stream_logic.live_index(state.stream.frame_numbers, state.stream.frame_rate, seconds)
-    coords = state.evaluator.evaluate(state.stream, index)["coord"][0]
-    mesh_data.set_shape_key_coords(obj.data.shape_keys.key_blocks[LIVE_KEY],
-                                   fp_logic.to_blender_axes(coords))
-    obj.data.update()
+    result = state.evaluator.evaluate(state.stream, index)
+    local = [mpeg4face.Transform(translation=t, rotation=r, scale=s, center=c).local_matrix()
+             for t, r, s, c in zip(result["translation"], result["rotation"], result["scale"],
+                                   state.centers)]
+    for obj, live, coords in zip(objects, state.objects, result["coord"]):
+        matrix = live.unposed @ _product(local, live.chain)
+        shown = coords @ matrix[:3, :3].T + matrix[:3, 3]
+        mesh_data.set_shape_key_coords(obj.data.shape_keys.key_blocks[LIVE_KEY],
+                                       fp_logic.to_blender_axes(shown))
+        obj.data.update()
+    return True
 
 
 @persistent
 def _on_frame_change(scene: bpy.types.Scene, *_args: object) -> None:
-    # A handler must never raise (it would on every frame): an object that is gone, or
-    # whose live key was removed (by Undo, say), leaves the preview.
+    # A handler must never raise (it would on every frame): a face with an object that is
+    # gone, or whose live key was removed (by Undo, say), leaves the preview.
     for name, state in list(_live.items()):
         try:
-            obj = bpy.data.objects.get(name)
-            key = obj.data.shape_keys if obj is not None and obj.type == "MESH" else None
-            if key is None or LIVE_KEY not in key.key_blocks:
+            if not _show(state, scene):
                 del _live[name]
-                continue
-            _show(obj, state, scene)
         except Exception as error:  # noqa: BLE001
             _live.pop(name, None)
             print(f"mpeg4face: live preview of {name} stopped: {type(error).__name__}: {error}")
@@ -242,7 +339,8 @@ def _remove_handler_when_idle() -> None:
 
 class MPEG4FACE_OT_live_preview(bpy.types.Operator):
     """Start or stop the live preview of the object's stream: on every frame change the core
-    evaluates the face's tables (built from the shape keys) for the stream, exactly"""
+    evaluates the face's tables (built from the shape keys, the parts and the poses) for the
+    stream, exactly"""
 
     bl_idname = "mpeg4face.live_preview"
     bl_label = "Live Preview"

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's FAP stream operators on CANDIDE-3 with a shape key fap3_open_jaw@512:
 import and bake (values, sliders, frame range and rate, resampling, a FIT filling in an
-unsent FAP), the live preview against the expected FAT result, encoding, speech and bad
-input. Run through run_in_blender.py."""
+unsent FAP), the live preview against the expected FAT result (with an eye as a part and
+poses of the eye and the head too), encoding, speech and bad input. Run through
+run_in_blender.py."""
 
 import json
 import shutil
@@ -15,8 +16,10 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 import mpeg4face  # noqa: E402
 from conftest import DATA  # noqa: E402
+from mathutils import Matrix  # noqa: E402
 
-from mpeg4face_blender import compat, operators_stream, panels_stream  # noqa: E402
+from mpeg4face_blender import (  # noqa: E402
+    compat, fp_logic, operators_faces, operators_stream, panels_stream, poses)
 
 JOY = DATA / "xface-fap" / "joy.fap"
 KEY = "fap3_open_jaw@512"
@@ -212,6 +215,121 @@ def test_live_handler_forgets_a_deleted_object(head):
     bpy.context.scene.frame_set(3)  # must not raise
     assert not operators_stream._live
     assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
+
+
+EYE_POSE, EYE_TURN = "fap23_yaw_l_eyeball@30000", 0.4  # radians about Blender's Z
+HEAD_POSE, HEAD_TURN = "fap49_head_yaw@20000", 0.2
+
+
+@pytest.fixture
+def eye(head):
+    """A left eye below the head: a small tetrahedron off its own origin, without shape
+    keys. Markers neutral (200), EYE_POSE (210) turning the eye and HEAD_POSE (220) turning
+    the head, keyed there only, so every object is at its neutral place before frame 200."""
+    mesh = bpy.data.meshes.new("eye_l")
+    mesh.from_pydata([(0.01, 0.0, 0.0), (0.02, 0.0, 0.0), (0.01, -0.01, 0.0),
+                      (0.01, 0.0, 0.01)], [], [(0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)])
+    obj = bpy.data.objects.new("eye_l", mesh)
+    scene = bpy.context.scene
+    scene.collection.objects.link(obj)
+    obj.parent = head
+    obj.location = (0.1, -0.05, 0.2)
+    for name, frame in (("neutral", 200), (EYE_POSE, 210), (HEAD_POSE, 220)):
+        scene.timeline_markers.new(name, frame=frame)
+        for posed, pose, turn in ((obj, EYE_POSE, EYE_TURN), (head, HEAD_POSE, HEAD_TURN)):
+            posed.rotation_euler = (0, 0, turn if name == pose else 0)
+            posed.keyframe_insert("rotation_euler", frame=frame)
+    scene.frame_set(1)
+    yield obj
+    operators_stream.stop_live(head)
+    bpy.data.objects.remove(obj)
+    bpy.data.meshes.remove(mesh)
+    scene.timeline_markers.clear()
+    head.animation_data_clear()
+
+
+def write_stream(path, faps):
+    """A 30 fps stream sending each FAP of `faps` (number -> value per frame)."""
+    frames = len(next(iter(faps.values())))
+    mask = np.zeros((frames, 68), dtype=bool)
+    values = np.zeros((frames, 68), dtype=np.int32)
+    for fap, sent in faps.items():
+        mask[:, fap - 1], values[:, fap - 1] = True, sent
+    mpeg4face.write_fap(mpeg4face.FapStream.from_arrays(
+        np.arange(frames), mask, values, frame_rate=30), str(path))
+    return path
+
+
+def live_coords(obj):
+    return coords(obj.data.shape_keys.key_blocks[operators_stream.LIVE_KEY])
+
+
+def moved(matrix, points):
+    """Points (N, 3) through a 4x4 mathutils matrix."""
+    m = np.array(matrix)
+    return points @ m[:3, :3].T + m[:3, 3]
+
+
+def test_live_preview_of_a_part_and_its_pose(head, eye, tmp_path):
+    """The eye turns by FAP 23 about its origin and the jaw opens by FAP 3, each in its own
+    live key: the objects stay where they are; Stop takes the keys and the eye's added
+    Basis away."""
+    faps = {3: [0, 256, 400], 23: [0, 20000, -12000]}
+    path = write_stream(tmp_path / "eye.fap", faps)
+    scene = bpy.context.scene
+    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
+    stream = mpeg4face.read_fap_stream(path)
+    eye_basis = coords(eye.data)
+    matrices = [o.matrix_world.copy() for o in (head, eye)]
+    head_display = (head.show_only_shape_key, head.active_shape_key_index)
+
+    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="LIVE") == {
+        "FINISHED"}
+    assert eye.data.shape_keys.key_blocks.keys() == [operators_stream.LIVE_BASIS,
+                                                     operators_stream.LIVE_KEY]
+    assert head.show_only_shape_key and eye.show_only_shape_key
+    for index in (1, 2):
+        scene.frame_set(1 + index)
+        turn = Matrix.Rotation(EYE_TURN * faps[23][index] / 30000, 4, "Z")
+        np.testing.assert_allclose(live_coords(eye), moved(turn, eye_basis), atol=1e-6)
+        core = evaluator.evaluate(stream, index)["coord"][0]
+        np.testing.assert_allclose(live_coords(head), fp_logic.to_blender_axes(core), atol=1e-6)
+        assert [o.matrix_world for o in (head, eye)] == matrices
+
+    assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
+    assert eye.data.shape_keys is None and not eye.show_only_shape_key
+    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert (head.show_only_shape_key, head.active_shape_key_index) == head_display
+    assert not operators_stream.is_live(head) and not operators_stream.is_live(eye)
+
+
+def test_live_preview_turns_the_head_with_its_parts(head, eye, tmp_path):
+    """A head pose turns the head about its origin and carries the eye along, each shown in
+    its own (neutral) frame."""
+    path = write_stream(tmp_path / "yaw.fap", {49: [10000]})
+    head_basis = coords(head.data.shape_keys.key_blocks["Basis"])
+    eye_basis = coords(eye.data)
+    eye_neutral = eye.matrix_local.copy()
+    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="LIVE") == {
+        "FINISHED"}
+    turn = Matrix.Rotation(HEAD_TURN * 10000 / 20000, 4, "Z")
+    np.testing.assert_allclose(live_coords(head), moved(turn, head_basis), atol=1e-6)
+    np.testing.assert_allclose(live_coords(eye), moved(
+        eye_neutral.inverted() @ turn @ eye_neutral, eye_basis), atol=1e-6)
+
+
+def test_live_preview_refuses_parts_sharing_a_mesh(head, eye, tmp_path):
+    path = write_stream(tmp_path / "eye.fap", {23: [10000]})
+    twin = bpy.data.objects.new("eye_r", eye.data)
+    bpy.context.scene.collection.objects.link(twin)
+    twin.parent = head
+    try:
+        with pytest.raises(RuntimeError, match="eye_l and eye_r share the mesh eye_l"):
+            bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="LIVE")
+        assert not operators_stream.is_live(head) and eye.data.shape_keys is None
+    finally:
+        bpy.data.objects.remove(twin)
 
 
 def test_encode(head, tmp_path, joy):
