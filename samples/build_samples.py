@@ -1,0 +1,398 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Builds the sample heads from the project's copies of the third-party data.
+
+- candide3.glb: CANDIDE-3 with its feature points and its MPEG-4 FAP units as morph
+  targets named in the shape-key grammar (fap3_open_jaw@1000, ...).
+- makehuman_head.glb: MakeHuman's head cut from the hm08 base mesh, with the eyes, teeth and
+  tongue as meshes of their own under their own Transforms, its feature points, FAP shape
+  keys cloned from CANDIDE-3 (Facial Motion Cloning), MakeHuman's own expression units
+  where one fits a FAP (replacing the cloned key), and viseme and expression keys made from
+  the FAP keys through the viseme and expression FIT presets.
+- makehuman_units.json: how each expression unit was mapped (docs/samples.md).
+
+Run with /usr/bin/python3 and the built module on PYTHONPATH (samples/build.sh does that).
+Every output is written to FILE.part and renamed, so a failed run leaves no half file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import mpeg4face
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+CANDIDE = ROOT / "tests/data/candide3"
+MAKEHUMAN = ROOT / "tests/data/makehuman"
+UNITS = ROOT / "samples/makehuman/expression-units"
+
+# The head is cut from the body above this height (model units, y up): the neck, down to
+# below its base (7.2 at 5.89), without the shoulders, which a head rotation must not turn.
+NECK_CUT_Y = 5.7
+# The OBJ groups that become the head's meshes, each under its own Transform.
+PART_GROUPS = {
+    "eye_left": "helper-l-eye",
+    "eye_right": "helper-r-eye",
+    "teeth_upper": "helper-upper-teeth",
+    "teeth_lower": "helper-lower-teeth",
+    "tongue": "helper-tongue",
+}
+# A FAP's positive motion as a direction in the MPEG-4 frame (x to the face's left, y up,
+# z forward); FAPs of other kinds (rotations, growing, concave) are not measured.
+DIRECTIONS = {
+    "up": (0.0, 1.0, 0.0),
+    "down": (0.0, -1.0, 0.0),
+    "left": (1.0, 0.0, 0.0),
+    "right": (-1.0, 0.0, 0.0),
+    "forward": (0.0, 0.0, 1.0),
+}
+# A unit fits a FAP when its largest response, in FAPU units, is on that FAP and every
+# response of a FAP at another feature point is at most this fraction of it: the unit
+# then does what the FAP says and little else, so it can stand for the FAP without moving
+# what other FAPs' keys already move.
+SPECIFICITY = 0.35
+# ... and when the motion at that feature point is mostly along the FAP's direction.
+ALIGNMENT = 0.8
+
+
+def write_atomically(path: Path, write) -> None:
+    part = path.with_name(path.name + ".part")
+    write(part)
+    part.replace(path)
+
+
+def candide3() -> mpeg4face.FaceModel:
+    """CANDIDE-3 with its feature points and its FAP units named in the grammar."""
+    candide = mpeg4face.read_wfm(CANDIDE / "candide3.wfm")
+    model = mpeg4face.candide_to_face_model(candide)
+    points, warnings = mpeg4face.read_feature_point_csv(CANDIDE / "feature_points.csv", model)
+    for warning in warnings:
+        print(f"candide3: {warning}", file=sys.stderr)
+    model.feature_points = points
+    named = mpeg4face.name_candide_fap_units(model, candide)
+    mesh = named.meshes[0]
+    # The FAP units only: the other action units (shape units, "Jaw drop") are not FAPs.
+    mesh.morph_targets = [t for t in mesh.morph_targets if mpeg4face.parse_shape_key_name(t.name)]
+    return named
+
+
+def cut_mesh(mesh: mpeg4face.IndexedFaceSet, keep_vertex: np.ndarray, name: str
+             ) -> mpeg4face.IndexedFaceSet:
+    """The faces of `mesh` whose corners are all kept, with only the vertices they use (in
+    their old order, source_index carried so the OBJ's numbering still reads)."""
+    faces = np.split(mesh.coord_index, np.flatnonzero(mesh.coord_index == -1) + 1)
+    faces = [f[:-1] for f in faces if len(f) > 1 and keep_vertex[f[:-1]].all()]
+    used = np.zeros(mesh.vertex_count, dtype=bool)
+    for f in faces:
+        used[f] = True
+    new_index = np.cumsum(used) - 1
+    coord_index = np.concatenate([np.append(new_index[f], -1) for f in faces]).astype(np.int32)
+    return mpeg4face.IndexedFaceSet(
+        name, mesh.coord[used], coord_index, source_index=mesh.source_index[used])
+
+
+def merged(meshes: list[mpeg4face.IndexedFaceSet], name: str) -> mpeg4face.IndexedFaceSet:
+    """One mesh of several (MakeHuman's four eyelash groups)."""
+    offsets = np.cumsum([0] + [m.vertex_count for m in meshes])
+    coord_index = np.concatenate([np.where(m.coord_index < 0, -1, m.coord_index + o)
+                                  for m, o in zip(meshes, offsets)]).astype(np.int32)
+    return mpeg4face.IndexedFaceSet(
+        name, np.vstack([m.coord for m in meshes]), coord_index,
+        source_index=np.concatenate([m.source_index for m in meshes]))
+
+
+def makehuman_neutral() -> mpeg4face.FaceModel:
+    """The head cut from the base mesh. The skin and eyelashes belong to the root Transform
+    "head", placed at 7.1 (the head's rotation centre); each part has a child Transform at
+    its own centre (an eyeball turns about it). Feature points from the project's CSV."""
+    source = mpeg4face.read_obj(MAKEHUMAN / "base.obj")
+
+    def group(name: str) -> mpeg4face.IndexedFaceSet:
+        return source.meshes[source.find_mesh(name)]
+
+    body = group("body")
+    skin = cut_mesh(body, body.coord[:, 1] > NECK_CUT_Y, "skin")
+    lashes = merged([group(f"helper-{side}-eyelashes-{n}") for side in "lr" for n in (1, 2)],
+                    "eyelashes")
+    parts = [cut_mesh(group(g), np.ones(group(g).vertex_count, dtype=bool), name)
+             for name, g in PART_GROUPS.items()]
+    points, _ = mpeg4face.read_feature_point_csv(MAKEHUMAN / "feature_points.csv", source)
+    rotation_centre = np.asarray(points["7.1"].position)  # a free coordinate in the CSV
+    centres = [(p.coord.min(axis=0) + p.coord.max(axis=0)) / 2 for p in parts]
+    for mesh in (skin, lashes):
+        mesh.coord = mesh.coord - rotation_centre
+    for mesh, centre in zip(parts, centres):
+        mesh.coord = mesh.coord - centre
+    transforms = [mpeg4face.Transform("head", translation=rotation_centre, meshes=[0, 1],
+                                      children=list(range(1, len(parts) + 1)))]
+    transforms += [mpeg4face.Transform(p.name, translation=c - rotation_centre, meshes=[i + 2])
+                   for i, (p, c) in enumerate(zip(parts, centres))]
+    head = mpeg4face.FaceModel(meshes=[skin, lashes, *parts], transforms=transforms, roots=[0])
+    points, warnings = mpeg4face.read_feature_point_csv(MAKEHUMAN / "feature_points.csv", head)
+    for warning in warnings:
+        print(f"makehuman: {warning}", file=sys.stderr)
+    head.feature_points = points
+    head.validate()
+    return head
+
+
+def read_target(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """A MakeHuman .target: OBJ vertex numbers and their offsets."""
+    rows = [line.split() for line in path.read_text().splitlines()
+            if line.strip() and not line.startswith("#")]
+    try:
+        vertices = np.array([int(r[0]) for r in rows], dtype=np.int64)
+        offsets = np.array([[float(v) for v in r[1:4]] for r in rows], dtype=np.float64)
+    except (ValueError, IndexError) as error:
+        raise SystemExit(f"{path}: not a MakeHuman target ({error})") from error
+    return vertices, offsets.reshape(-1, 3)
+
+
+def unit_displacements(head: mpeg4face.FaceModel, vertices: np.ndarray, offsets: np.ndarray
+                       ) -> tuple[list[np.ndarray], int]:
+    """The target's offsets on each of the head's meshes (through source_index), and how
+    many of its vertices the head holds (the rest lie below the cut)."""
+    out, held = [], 0
+    for mesh in head.meshes:
+        lookup = {int(s): i for i, s in enumerate(mesh.source_index)}
+        d = np.zeros((mesh.vertex_count, 3))
+        for v, o in zip(vertices, offsets):
+            i = lookup.get(int(v))
+            if i is not None:
+                d[i] += o
+                held += 1
+        out.append(d)
+    return out, held
+
+
+@dataclass
+class UnitMapping:
+    unit: str
+    vertices: int  # of the target
+    held: int  # of those, in the head
+    fap: int  # 0: not mapped
+    value: int  # the FAP value the unit is worth (its key's amplitude)
+    key: str
+    reason: str
+    responses: dict[str, float]  # FAP number -> value at its feature point, the largest few
+
+
+def fap_responses(head: mpeg4face.FaceModel, fapu: mpeg4face.FapuMeasurement,
+                  displacements: list[np.ndarray]) -> dict[int, tuple[float, float]]:
+    """FAP -> (the FAP value the displacement is worth at the FAP's feature point, the
+    cosine between that point's motion and the FAP's direction)."""
+    out = {}
+    for info in mpeg4face.faps():
+        direction = DIRECTIONS.get(info.positive_motion)
+        binding = head.feature_points.get(info.feature_point)
+        if direction is None or binding is None or binding.vertex < 0 or not info.fapu:
+            continue
+        d = displacements[binding.mesh][binding.vertex]
+        unit = fapu.unit(info.fapu)
+        norm = float(np.linalg.norm(d))
+        if unit == 0 or norm == 0:
+            continue
+        along = float(np.dot(d, direction))
+        out[info.number] = (along / unit, along / norm)
+    return out
+
+
+def map_unit(name: str, vertices: int, held: int, responses: dict[int, tuple[float, float]]
+             ) -> UnitMapping:
+    ranked = sorted(responses.items(), key=lambda kv: -abs(kv[1][0]))
+    top = {str(f): round(v, 1) for f, (v, _) in ranked[:4]}
+    if not ranked:
+        return UnitMapping(name, vertices, held, 0, 0, "", "moves no feature point", top)
+    fap, (value, cosine) = ranked[0]
+    point = mpeg4face.fap(fap).feature_point
+    others = [(f, v) for f, (v, _) in ranked[1:] if mpeg4face.fap(f).feature_point != point]
+    rival = max(others, key=lambda fv: abs(fv[1]), default=(0, 0.0))
+    if abs(cosine) < ALIGNMENT:
+        reason = (f"{point} moves {abs(cosine):.2f} along FAP {fap}'s direction "
+                  f"(needs {ALIGNMENT})")
+        return UnitMapping(name, vertices, held, 0, 0, "", reason, top)
+    if abs(rival[1]) > SPECIFICITY * abs(value):
+        reason = (f"FAP {rival[0]} at {mpeg4face.fap(rival[0]).feature_point} moves "
+                  f"{abs(rival[1]) / abs(value):.0%} as much as FAP {fap} (at most "
+                  f"{SPECIFICITY:.0%})")
+        return UnitMapping(name, vertices, held, 0, 0, "", reason, top)
+    amplitude = int(round(value))
+    key = mpeg4face.format_shape_key_name(fap, amplitude, 0, "mh_" + name)
+    return UnitMapping(name, vertices, held, fap, amplitude, key,
+                       f"{mpeg4face.fap(fap).name} at {point}", top)
+
+
+# Cloned copies left out: the eyeballs are rigid parts here (their turns are poses below),
+# so CANDIDE's eye units (23-30, vertex motion on its one mesh) do not apply.
+EYEBALL_FAPS = range(23, 31)
+# Pose amplitudes: AU (1e-5 rad) for the eyeball and head rotations.
+EYE_POSE_AU = 20000
+HEAD_POSE_AU = 20000
+ROTATION_POSES = {  # FAP -> (Transform name, axis of the positive motion)
+    23: ("eye_left", (0, 1, 0)),  # yaw to the face's left: about +y turns z towards +x
+    24: ("eye_right", (0, 1, 0)),
+    25: ("eye_left", (1, 0, 0)),  # pitch down: about +x turns z towards -y
+    26: ("eye_right", (1, 0, 0)),
+    48: ("head", (1, 0, 0)),  # head pitch, down
+    49: ("head", (0, 1, 0)),  # head yaw, to the left
+    50: ("head", (0, 0, 1)),  # head roll, to the right: about +z turns y towards -x
+}
+JAW_FAPS = (3, 14, 15)  # the lower teeth and tongue follow the chin (2.1)
+JAW_PARTS = ("teeth_lower", "tongue")
+
+Keys = dict[str, list[np.ndarray]]  # shape key name -> displacement per mesh
+
+
+def cloned_keys(candide: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
+    cloned = mpeg4face.clone_face(candide, head)
+    for warning in cloned["warnings"]:
+        print(f"clone: {warning}", file=sys.stderr)
+    return {c["name"]: c["displacements"] for c in cloned["copies"]
+            if c["fap"] not in EYEBALL_FAPS}
+
+
+def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
+                       mappings: list[UnitMapping]) -> None:
+    """A mapped unit stands for its FAP in its direction: the cloned keys of that FAP with
+    the same sign go."""
+    for m in mappings:
+        if not m.fap:
+            continue
+        for name in list(keys):
+            parsed = mpeg4face.parse_shape_key_name(name)
+            if parsed["fap"] == m.fap and np.sign(parsed["amplitude"]) == np.sign(m.value):
+                del keys[name]
+        keys[m.key] = units[m.unit]
+
+
+def quaternion(axis: tuple[int, int, int], angle: float) -> list[float]:
+    half = angle / 2
+    return [*(np.asarray(axis, dtype=float) * np.sin(half)), float(np.cos(half))]
+
+
+def poses(head: mpeg4face.FaceModel, keys: Keys) -> list[mpeg4face.MorphWeightAnimation]:
+    """Eyeball and head turns as rotations of their Transforms, and the jaw FAPs' keys
+    lowering the lower teeth and tongue with the chin (a pose of the same name as a key is
+    one deformed copy with it)."""
+    Path = mpeg4face.TransformChannel.Path
+    out = []
+    for fap, (part, axis) in ROTATION_POSES.items():
+        amplitude = HEAD_POSE_AU if part == "head" else EYE_POSE_AU
+        index = head.find_transform(part)
+        for sign in (1, -1):
+            rotation = quaternion(axis, sign * amplitude * 1e-5)
+            channel = mpeg4face.TransformChannel(index, Path.ROTATION, times=[0.0],
+                                                 values=rotation)
+            name = mpeg4face.format_shape_key_name(fap, sign * amplitude, 0,
+                                                   mpeg4face.fap(fap).name)
+            out.append(mpeg4face.MorphWeightAnimation(name, transform_channels=[channel]))
+    chin = head.feature_points["2.1"]
+    for name, displacements in keys.items():
+        if mpeg4face.parse_shape_key_name(name)["fap"] not in JAW_FAPS:
+            continue
+        moved = displacements[chin.mesh][chin.vertex]
+        channels = []
+        for part in JAW_PARTS:
+            index = head.find_transform(part)
+            channels.append(mpeg4face.TransformChannel(
+                index, Path.TRANSLATION, times=[0.0],
+                values=head.transforms[index].translation + moved))
+        out.append(mpeg4face.MorphWeightAnimation(name, transform_channels=channels))
+    return out
+
+
+def with_keys(head: mpeg4face.FaceModel, keys: Keys,
+              animations: list[mpeg4face.MorphWeightAnimation]) -> mpeg4face.FaceModel:
+    """The head with each key as a morph target of the meshes it moves."""
+    meshes = head.meshes
+    for i, mesh in enumerate(meshes):
+        mesh.morph_targets = [mpeg4face.MorphTarget(name, d[i]) for name, d in keys.items()
+                              if np.any(d[i])]
+    head.meshes = meshes
+    head.animations = animations
+    return head
+
+
+def viseme_and_expression_keys(head: mpeg4face.FaceModel
+                               ) -> tuple[Keys, list[mpeg4face.MorphWeightAnimation]]:
+    """viseme1..14 and expression1..6 (at intensity 63): the FAP keys and poses evaluated
+    for the FAPs the viseme and expression FIT presets give each (docs/fit.md), as keys
+    and, where the jaw or eyes move, poses of the same name."""
+    face = mpeg4face.generate_face(head)["face"]
+    evaluator = mpeg4face.FatEvaluator(face)
+    neutral = evaluator.neutral()
+    n = len(mpeg4face.visemes()) - 1, len(mpeg4face.expressions()) - 1
+    rows = n[0] + n[1]
+    visemes = np.zeros((rows, 4), dtype=np.int32)
+    expressions = np.zeros((rows, 6), dtype=np.int32)
+    mask = np.zeros((rows, mpeg4face.FAP_COUNT), dtype=bool)
+    names = []
+    for v in range(1, n[0] + 1):
+        visemes[v - 1] = (v, 0, 63, 0)
+        mask[v - 1, 0] = True
+        names.append(f"viseme{v}")
+    for e in range(1, n[1] + 1):
+        expressions[n[0] + e - 1] = (e, 63, 0, 0, 0, 0)
+        mask[n[0] + e - 1, 1] = True
+        names.append(f"expression{e}_{mpeg4face.expressions()[e].name}")
+    stream = mpeg4face.FapStream.from_arrays(
+        np.arange(rows), mask, np.zeros((rows, mpeg4face.FAP_COUNT), dtype=np.int32),
+        visemes, expressions)
+    for preset in ("viseme", "expression"):  # each row sends one of the two
+        stream = mpeg4face.fit_preset(preset).interpolate(stream)
+    Path = mpeg4face.TransformChannel.Path
+    keys, animations = {}, []
+    for row, name in enumerate(names):
+        state = evaluator.evaluate(stream, row)
+        keys[name] = [c - c0 for c, c0 in zip(state["coord"], neutral["coord"])]
+        channels = [mpeg4face.TransformChannel(t, path, times=[0.0], values=state[field][t])
+                    for field, path in (("translation", Path.TRANSLATION),
+                                        ("rotation", Path.ROTATION))
+                    for t in range(len(head.transforms))
+                    if not np.allclose(state[field][t], neutral[field][t])]
+        if channels:
+            animations.append(mpeg4face.MorphWeightAnimation(name, transform_channels=channels))
+    return keys, animations
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", type=Path, default=ROOT / "samples/build")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+
+    candide = candide3()
+    mpeg4face.write_gltf(candide, args.out / "candide3.glb")
+    print(f"samples: candide3.glb, {len(candide.meshes[0].morph_targets)} FAP units")
+
+    head = makehuman_neutral()
+    fapu = mpeg4face.measure_fapu(head)
+    mappings, units = [], {}
+    for path in sorted(UNITS.glob("*.target")):
+        vertices, offsets = read_target(path)
+        units[path.stem], held = unit_displacements(head, vertices, offsets)
+        mappings.append(map_unit(path.stem, len(vertices), held,
+                                 fap_responses(head, fapu, units[path.stem])))
+    keys = cloned_keys(candide, head)
+    replace_with_units(keys, units, mappings)
+    head = with_keys(head, keys, poses(head, keys))
+    more_keys, more_poses = viseme_and_expression_keys(head)
+    keys.update(more_keys)
+    head = with_keys(head, keys, [*head.animations, *more_poses])
+    mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
+    write_atomically(args.out / "makehuman_units.json", lambda p: p.write_text(
+        json.dumps([asdict(m) for m in mappings], indent=1) + "\n"))
+    mapped = [m for m in mappings if m.fap]
+    print(f"samples: makehuman_head.glb, {sum(m.vertex_count for m in head.meshes)} vertices in "
+          f"{len(head.meshes)} meshes, {len(keys)} shape keys ({len(mapped)} of MakeHuman's "
+          f"{len(mappings)} expression units), {len(head.animations)} poses")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,203 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The samples (samples/build_samples.py, samples/make_blend.py; docs/samples.md): the rule
+that maps MakeHuman's expression units to FAPs, and the built heads."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import mpeg4face
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "samples"))
+import build_samples  # noqa: E402
+
+map_unit = build_samples.map_unit
+
+
+def test_a_unit_fits_the_fap_whose_point_it_moves_along_its_direction():
+    m = map_unit("closure", 186, 186, {19: (800.6, 0.97), 21: (100.0, 0.9)})
+    assert (m.fap, m.value, m.key) == (19, 801, "fap19_mh_closure@801")
+    # FAPs at the same feature point are not rivals (3 and 14 both act on 2.1).
+    assert map_unit("jaw", 1, 1, {3: (500.0, 0.9), 14: (-450.0, 0.4)}).fap == 3
+    assert map_unit("open", 1, 1, {19: (-276.8, -0.9)}).key == "fap19_mh_open@-277"
+
+
+def test_a_unit_that_moves_other_points_or_off_the_direction_does_not_fit():
+    rival = map_unit("slit", 1, 1, {19: (296.5, 0.9), 21: (286.6, 0.9)})
+    assert rival.fap == 0 and rival.key == ""
+    assert "FAP 21 at 3.3 moves 97% as much as FAP 19" in rival.reason
+    # 35 % is still specific, 36 % is not.
+    assert map_unit("u", 1, 1, {33: (100.0, 0.9), 35: (35.0, 0.9)}).fap == 33
+    assert map_unit("u", 1, 1, {33: (100.0, 0.9), 35: (36.0, 0.9)}).fap == 0
+    oblique = map_unit("inner", 1, 1, {31: (3.8, 0.71)})
+    assert oblique.fap == 0 and "0.71 along FAP 31's direction" in oblique.reason
+    assert map_unit("still", 1, 1, {}).reason == "moves no feature point"
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("samples")
+    assert build_samples.main(["--out", str(out)]) == 0
+    return out
+
+
+@pytest.fixture(scope="module")
+def head(built) -> mpeg4face.FaceModel:
+    return mpeg4face.read_gltf(built / "makehuman_head.glb")
+
+
+def key_names(model: mpeg4face.FaceModel) -> set[str]:
+    return {t.name for mesh in model.meshes for t in mesh.morph_targets}
+
+
+def test_candide3_sample_has_its_fap_units_and_feature_points(built):
+    candide = mpeg4face.read_gltf(built / "candide3.glb")
+    names = key_names(candide)
+    assert len(candide.meshes) == 1 and candide.meshes[0].vertex_count == 113
+    assert "fap3_open_jaw@1000" in names and "fap3_open_jaw@-1000" not in names
+    assert all(mpeg4face.parse_shape_key_name(n) for n in names)
+    assert not mpeg4face.measure_fapu(candide).missing()
+
+
+def test_makehuman_head_is_a_head_with_its_parts(head):
+    names = [m.name for m in head.meshes]
+    assert names == ["skin", "eyelashes", "eye_left", "eye_right", "teeth_upper",
+                     "teeth_lower", "tongue"]
+    assert 5000 <= sum(m.vertex_count for m in head.meshes) <= 20000
+    # The neck is cut: no skin below the cut, and the body's feet are gone.
+    world = head.mesh_world_matrices()[0]
+    skin = head.meshes[0].coord @ world[:3, :3].T + world[:3, 3]
+    assert skin[:, 1].min() > build_samples.NECK_CUT_Y
+    csv_rows = [line for line in (ROOT / "tests/data/makehuman/feature_points.csv")
+                .read_text().splitlines() if line[:1].isdigit()]
+    assert len(head.feature_points) == len(csv_rows) == 84
+    assert head.feature_points["3.5"].mesh == names.index("eye_left")
+    assert head.feature_points["9.11"].mesh == names.index("teeth_lower")
+    assert not mpeg4face.measure_fapu(head).missing()
+
+
+def test_mapped_units_replace_the_cloned_keys_of_their_fap_and_sign(built, head):
+    names = key_names(head)
+    mappings = {m["unit"]: m for m in json.loads((built / "makehuman_units.json").read_text())}
+    assert len(mappings) == 34
+    assert mappings["eye-left-closure"]["key"] == "fap19_mh_eye-left-closure@801"
+    assert {m["key"] for m in mappings.values() if m["fap"]} <= names
+    parsed = [mpeg4face.parse_shape_key_name(n) | {"name": n} for n in names]
+    of = {}
+    for p in parsed:
+        of.setdefault(p["fap"], []).append(p)
+    assert {p["name"] for p in of[19]} == {"fap19_mh_eye-left-closure@801",
+                                          "fap19_mh_eye-left-opened-up@-277"}
+    # FAP 55's unit is negative only: the positive cloned key stays.
+    assert {p["name"] for p in of[55]} == {"fap55_mh_nose-left-elevation@-75",
+                                          "fap55_lower_t_lip_lm_o@1000"}
+    assert not set(of) & set(build_samples.EYEBALL_FAPS)  # eyeballs turn as poses
+
+
+def test_a_mapped_key_is_the_makehuman_unit_itself(head):
+    """At the key's amplitude the head moves as MakeHuman's target says, vertex by vertex
+    through the OBJ numbering (read here independently of the build script)."""
+    rows = [line.split() for line in
+            (ROOT / "samples/makehuman/expression-units/eye-left-closure.target")
+            .read_text().splitlines() if line.strip() and not line.startswith("#")]
+    offsets = {int(r[0]): np.array(r[1:4], dtype=float) for r in rows}
+    face = mpeg4face.generate_face(head)["face"]
+    evaluator = mpeg4face.FatEvaluator(face)
+    mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
+    values = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
+    mask[0, 18], values[0, 18] = True, 801
+    mask[0, 19] = True  # FAP 20 sent as 0: unsent, it would mirror FAP 19 (the right eyelid)
+    moved = evaluator.evaluate(mpeg4face.FapStream.from_arrays([0], mask, values), 0)
+    neutral = evaluator.neutral()
+    checked = 0
+    # glTF does not keep the OBJ numbering; the neutral head built again does.
+    for i, mesh in enumerate(build_samples.makehuman_neutral().meshes):
+        delta = moved["coord"][i] - neutral["coord"][i]
+        for vertex, source in enumerate(mesh.source_index):
+            expected = offsets.get(int(source), np.zeros(3))
+            np.testing.assert_allclose(delta[vertex], expected, atol=1e-6)
+            checked += int(source) in offsets
+    assert checked == len(offsets)
+
+
+def evaluate(head: mpeg4face.FaceModel, fap: int, value: int) -> tuple[dict, dict]:
+    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(head)["face"])
+    mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
+    values = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
+    mask[0, fap - 1], values[0, fap - 1] = True, value
+    return evaluator.evaluate(mpeg4face.FapStream.from_arrays([0], mask, values), 0), \
+        evaluator.neutral()
+
+
+def test_eyeballs_and_head_turn_about_their_centres(head):
+    eye = head.find_transform("eye_left")
+    state, neutral = evaluate(head, 23, 10000)  # 0.1 rad to the face's left
+    np.testing.assert_allclose(state["rotation"][eye], [0, math.sin(0.05), 0, math.cos(0.05)],
+                               atol=1e-9)
+    np.testing.assert_allclose(state["translation"][eye], neutral["translation"][eye])
+    state, neutral = evaluate(head, 48, -20000)  # the head pitched up
+    root = head.find_transform("head")
+    np.testing.assert_allclose(state["rotation"][root], [-math.sin(0.1), 0, 0, math.cos(0.1)],
+                               atol=1e-9)
+    np.testing.assert_allclose(head.transforms[root].translation,
+                               head.feature_points["7.1"].position)
+
+
+def test_the_jaw_lowers_the_teeth_and_tongue_with_the_chin(head):
+    state, neutral = evaluate(head, 3, 500)
+    chin = head.feature_points["2.1"]
+    chin_moved = state["coord"][chin.mesh][chin.vertex] - neutral["coord"][chin.mesh][chin.vertex]
+    assert chin_moved[1] < -0.05
+    for part in build_samples.JAW_PARTS:
+        t = head.find_transform(part)
+        np.testing.assert_allclose(state["translation"][t] - neutral["translation"][t],
+                                   chin_moved, atol=1e-6)  # glTF keeps float32
+    upper = head.find_transform("teeth_upper")
+    np.testing.assert_allclose(state["translation"][upper], neutral["translation"][upper])
+
+
+def test_visemes_and_expressions_make_tables(head):
+    tables = mpeg4face.generate_face(head)["face"].tables
+    selects = {(t["fap"], t["select"]) for t in tables}
+    assert {(1, v) for v in range(1, 15)} <= selects
+    assert {(2, e) for e in range(1, 7)} <= selects
+    # An open-mouthed viseme moves the lower teeth through its pose.
+    aa = next(t for t in tables if (t["fap"], t["select"]) == (1, 10))
+    assert aa["transforms"]
+
+
+def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
+    blend = tmp_path / "head.blend"
+    env = dict(os.environ, MPEG4FACE_PYTHONPATH=str(Path(mpeg4face.__file__).parent.parent))
+    subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+                    str(ROOT / "samples/make_blend.py"), "--", str(built / "makehuman_head.glb"),
+                    str(blend)], check=True, env=env, capture_output=True)
+    probe = (
+        "import bpy, json\n"
+        "s = bpy.context.scene\n"
+        "print('PROBE', json.dumps({o.name: {'parent': o.parent.name if o.parent else None,"
+        " 'keys': len(o.data.shape_keys.key_blocks) if o.type == 'MESH' and o.data.shape_keys"
+        " else 0, 'fp': sorted(g.name for g in o.vertex_groups) if o.type == 'MESH' else []}"
+        " for o in s.objects} | {'markers': sorted(m.name for m in s.timeline_markers),"
+        " 'camera': s.camera.name}))\n")
+    result = subprocess.run(["blender", "-b", str(blend), "--python-exit-code", "1",
+                             "--python-expr", probe], check=True, capture_output=True, text=True)
+    line = next(x for x in result.stdout.splitlines() if x.startswith("PROBE "))
+    scene = json.loads(line[len("PROBE "):])
+    head_obj = scene["MakeHuman head"]
+    assert head_obj["parent"] is None and head_obj["keys"] == 109  # Basis + 108
+    for part in ("eyelashes", "eye_left", "eye_right", "teeth_upper", "teeth_lower", "tongue"):
+        assert scene[part]["parent"] == "MakeHuman head"
+    assert "FP_2.1" in head_obj["fp"] and "FP_3.5" in scene["eye_left"]["fp"]
+    assert sum(len(o["fp"]) for k, o in scene.items() if isinstance(o, dict)) == 82  # no 7.1/7.2
+    assert "neutral" in scene["markers"] and "fap23_yaw_l_eyeball@20000" in scene["markers"]
+    assert "viseme10" in scene["markers"]  # the viseme's jaw pose
+    assert scene["camera"] == "Camera"
