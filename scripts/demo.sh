@@ -1,45 +1,81 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # The README's demo command: installs what is missing, builds, and runs the main job on the
-# bundled sample head, writing everything to out/demo/. It grows with the project; today it
-# describes the CANDIDE-3 head (meshes, FAP units, feature points, the measured FAPU, the
-# Table 6 location checks), makes its FaceDefTables from its FAP units with the viseme and
-# expression FIT in the Face node, and has it say a sentence: flite speaks it, the phones
-# become visemes, a bookmark smiles, and the stream is played on the face as glTF.
+# bundled MakeHuman head (docs/user-guide.md walks through it):
+#   1. the samples, built from the project's copies of the third-party data (samples/build.sh)
+#   2. the head's FaceDefTables from its shape keys and poses, exported as an MPEG-4 face
+#      (VRML97 .wrl with the BIFS face nodes, and glTF .glb)
+#   3. a FAP stream (a spoken sentence with expressions, blinks, brows, eyes and head)
+#      encoded in predictive and DCT mode (bits/s and PSNR printed) and decoded
+#   4. the decoded stream previewed in Blender through the add-on: every frame rendered, a
+#      contact sheet and a video with the sound
+#   5. a summary of what was made and where.
+# Everything goes to MPEG4FACE_DEMO_OUT (default out/demo/); running it again redoes it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=${MPEG4FACE_DEMO_OUT:-out/demo}
+fap_quant=8
+started=$SECONDS
 
+step() { printf '\n=== %s\n' "$*"; }
+
+step "setup (what is missing from Debian's packages and npm)"
 scripts/setup.sh
-scripts/build.sh build/release
-mkdir -p "$out"
-
+step "build (the CLI and the Python module)"
+MPEG4FACE_BUILD_TARGETS="mpeg4face_cli _core" scripts/build.sh build/release
 cli=build/release/bin/mpeg4face
-head=tests/data/candide3/candide3.wfm
-points=tests/data/candide3/feature_points.csv
+export MPEG4FACE_PYTHONPATH=$PWD/build/release/python
 
-echo
-"$cli" info "$head" --feature-points "$points" | tee "$out/info.txt"
-"$cli" info "$head" --feature-points "$points" --json >"$out/info.json"
+step "samples (samples/build/)"
+samples/build.sh
+mkdir -p "$out"
+head=samples/build/makehuman_head.glb
 
-# The FaceDefTables, with the FIT that turns visemes and expressions into CANDIDE's FAPs.
-echo
-"$cli" fit preset viseme,expression -o "$out/candide3_fit.json"
-"$cli" fat generate "$head" --feature-points "$points" --fit "$out/candide3_fit.json" \
-  -o "$out/candide3.wrl" >"$out/candide3_fat.txt"
-head -n 4 "$out/candide3_fat.txt"
-echo "  ... (all of it in $out/candide3_fat.txt)"
+step "the head: meshes, feature points, FAPU"
+"$cli" info "$head" >"$out/info.txt"
+sed -n '/^FAPU/,/^warnings/{/^warnings/!p}' "$out/info.txt"
 
-# The head says a sentence.
-echo
-"$cli" speak "Hello! <FAP 2 1 50 1 50 900 3> I am an MPEG-4 face, and I can talk." \
-  -o "$out/hello.fap" --audio "$out/hello.wav"
-"$cli" encode "$out/hello.fap" -o "$out/hello.fba"
-"$cli" apply "$out/candide3.wrl" "$out/hello.fba" -o "$out/hello.glb"
+step "FaceDefTables from the head's shape keys and poses; export as an MPEG-4 face"
+"$cli" fat generate "$head" -o "$out/makehuman_head.wrl" >"$out/makehuman_head_fat.txt"
+head -n 1 "$out/makehuman_head_fat.txt"
+"$cli" export "$out/makehuman_head.wrl" -o "$out/makehuman_head.glb"
 
-echo
-echo "demo: wrote to $out/"
-echo "  info.txt, info.json          the head described"
-echo "  candide3.wrl, _fat.txt       its FaceDefTables (VRML97) with the FIT, and the report"
-echo "  hello.fap, hello.fba, .wav   the sentence as a FAP stream, coded, and its audio"
-echo "  hello.glb                    the head saying it (glTF animation; play it with the .wav)"
+step "a FAP stream: the sentence of samples/streams/hello.txt, spoken"
+cp samples/build/streams/hello.fap samples/build/streams/hello.wav "$out/"
+for mode in predictive dct; do
+  echo
+  "$cli" encode "$out/hello.fap" --mode "$mode" --fap-quant "$fap_quant" \
+    -o "$out/hello_$mode.fba" | tee "$out/coding_$mode.txt"
+  "$cli" decode "$out/hello_$mode.fba" -o "$out/hello_${mode}_decoded.fap" | tee -a "$out/coding_$mode.txt"
+done
+coded() {  # coded MODE: "842.1 bits/s, PSNR 55.64 dB" from what encode printed
+  echo "$(grep -o '[0-9.]* bits/s' "$out/coding_$1.txt"), $(grep -o 'PSNR [0-9.inf]* dB' "$out/coding_$1.txt")"
+}
+# The decoded stream played on the face by the core, as glTF animation (any glTF viewer).
+"$cli" apply "$out/makehuman_head.wrl" "$out/hello_dct.fba" -o "$out/hello_animated.glb" >/dev/null
+
+step "preview in Blender: the decoded DCT stream on the head, live through the add-on"
+blender -b samples/build/makehuman_head.blend --python-exit-code 1 \
+  --python samples/preview.py -- "$out/hello_dct.fba" "$out/preview" \
+  --audio "$out/hello.wav" --title "hello_dct.fba (DCT, fap_quant $fap_quant)" \
+  >"$out/preview.log" 2>&1 || { tail -n 40 "$out/preview.log"; exit 1; }
+grep '^preview:' "$out/preview.log" | tail -n 1
+
+step "summary ($((SECONDS - started)) s)"
+tee "$out/summary.txt" <<EOF
+demo: everything is in $out/
+  makehuman_head.wrl        the MakeHuman head as an MPEG-4 face: scene, feature points,
+                            FaceDefTables ($(head -n 1 "$out/makehuman_head_fat.txt" | sed 's/.*-> //'))
+  makehuman_head.glb        the same face as glTF: one morph target per table interval
+  makehuman_head_fat.txt    the tables, FAP by FAP;  info.txt: the head described
+  hello.fap, hello.wav      the sentence as a FAP stream, and its sound
+  hello_predictive.fba      coded in predictive mode, fap_quant $fap_quant: $(coded predictive)
+  hello_dct.fba             coded in DCT mode, fap_quant $fap_quant: $(coded dct)
+  hello_*_decoded.fap       the two bitstreams decoded;  coding_*.txt: what encode printed
+  hello_animated.glb        the head playing the decoded stream (glTF animation)
+  preview/frames/           every frame rendered in Blender ($(ls "$out/preview/frames" | wc -l) PNGs)
+  preview/contact_sheet.png 12 frames across the sentence
+  preview/preview.mp4       the frames and the sound as a video (H.264 + AAC)
+The head itself: samples/build/makehuman_head.blend (open it in Blender with the add-on,
+scripts/install_blender_addon.sh) and makehuman_head.glb; docs/user-guide.md explains it all.
+EOF

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # The README's test command: installs what is missing, builds, and runs every C++, Python and
-# Blender test, then the C++ tests again under ASan+UBSan and each fuzz target for a bounded
-# time. Exits non-zero on the first failure.
+# Blender test, then the C++ tests again under ASan+UBSan, each fuzz target for a bounded
+# time, and a new user's path (scripts/new_user_test.sh: the demo in a fresh clone). Exits
+# non-zero on the first failure.
 # Environment: MPEG4FACE_FUZZ_SECONDS (default 30 per target).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -84,6 +85,11 @@ for target in build/fuzz/fuzz/fuzz_*; do
   passed=$((passed + 1))
   rm -rf "$corpus"
 done
+
+step "a new user's path: the README's demo command in a fresh clone, run twice, its output checked"
+# This script is the README's other command, so the new-user test runs only the demo here.
+MPEG4FACE_NEW_USER_STEPS=demo counted new-user.log scripts/new_user_test.sh
+passed=$((passed + $(grep -c '^ok: ' build/logs/new-user.log)))
 
 step "all tests passed"
 echo "tests: $passed passed, 0 failed, $skipped skipped"

@@ -1,0 +1,156 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Checks what the README's demo command made, as a demanding new user would.
+
+    PYTHONPATH=build/release/python /usr/bin/python3 tests/new_user/check_demo_output.py \\
+        OUT_DIR [--samples samples/build] [--validator "node tests/tools/validate_gltf.mjs"]
+
+- every file the demo's summary names is there and not empty;
+- the glTF files (the exported face, the animated head, the sample heads) pass the Khronos
+  glTF validator with no error and no warning;
+- the VRML face reads back with our reader (tables, feature points, meshes as the report
+  says) and with tovrmlx3d, a third-party VRML97 reader, without a warning;
+- each decoded stream's PSNR against the original, computed here, is the one the demo
+  printed, and decoding the bitstream again gives the decoded file;
+- the preview has one rendered frame per scene frame of the stream, a contact sheet of 4 x 3
+  frames and an MPEG-4 video.
+Prints one line per check; exits 1 on the first failure.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+import shlex
+import struct
+import subprocess
+import sys
+from pathlib import Path
+
+import mpeg4face
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def fail(message: str) -> None:
+    print(f"FAIL: {message}")
+    raise SystemExit(1)
+
+
+def ok(message: str) -> None:
+    print(f"ok: {message}")
+
+
+def check_files(out: Path) -> None:
+    names = ["info.txt", "makehuman_head.wrl", "makehuman_head.glb", "makehuman_head_fat.txt",
+             "hello.fap", "hello.wav", "hello_animated.glb", "summary.txt",
+             "preview/contact_sheet.png", "preview/preview.mp4"]
+    for mode in ("predictive", "dct"):
+        names += [f"hello_{mode}.fba", f"hello_{mode}_decoded.fap", f"coding_{mode}.txt"]
+    for name in names:
+        path = out / name
+        if not path.is_file() or path.stat().st_size == 0:
+            fail(f"{path} is missing or empty")
+    leftovers = [p for p in out.rglob("*") if ".part" in p.name]
+    if leftovers:
+        fail(f"half-written files left: {', '.join(map(str, leftovers))}")
+    ok(f"{len(names)} files in {out}, no .part file left")
+
+
+def check_gltf(files: list[Path], validator: str) -> None:
+    command = [*shlex.split(validator), "--strict", *map(str, files)]
+    result = subprocess.run(command, capture_output=True, text=True, cwd=ROOT)
+    if result.returncode != 0:
+        fail(f"gltf-validator on {len(files)} files:\n{result.stdout}{result.stderr}")
+    for f in files:
+        mpeg4face.read_gltf(f).validate()
+    ok(f"gltf-validator: no error, no warning in {', '.join(f.name for f in files)}")
+
+
+def check_vrml(out: Path) -> None:
+    face = mpeg4face.read_vrml(out / "makehuman_head.wrl")
+    face.validate()
+    report = (out / "makehuman_head_fat.txt").read_text().splitlines()[0]
+    tables = int(re.search(r"-> (\d+) tables", report).group(1))
+    if len(face.tables) != tables:
+        fail(f"makehuman_head.wrl holds {len(face.tables)} tables, the report says {tables}")
+    graph = face.scene_graph
+    if len(graph.meshes) != 7 or len(graph.feature_points) < 80:
+        fail(f"makehuman_head.wrl: {len(graph.meshes)} meshes, {len(graph.feature_points)} "
+             "feature points (expected 7 and the head's 84)")
+    result = subprocess.run(["tovrmlx3d", "makehuman_head.wrl"], cwd=out, capture_output=True,
+                            text=True)
+    if result.returncode != 0 or result.stderr.strip():
+        fail(f"tovrmlx3d makehuman_head.wrl: status {result.returncode}\n{result.stderr}")
+    ok(f"makehuman_head.wrl: {tables} tables, {len(graph.meshes)} meshes, "
+       f"{len(graph.feature_points)} feature points read back; tovrmlx3d reads it without a "
+       "warning")
+
+
+def printed_psnr(path: Path) -> float:
+    match = re.search(r"^PSNR (\S+) dB", path.read_text(), re.MULTILINE)
+    if match is None:
+        fail(f"{path} has no PSNR line")
+    return float(match.group(1))
+
+
+def check_streams(out: Path) -> None:
+    original = mpeg4face.read_fap(out / "hello.fap")
+    for mode in ("predictive", "dct"):
+        decoded = mpeg4face.read_fap(out / f"hello_{mode}_decoded.fap")
+        again = mpeg4face.decode_fba((out / f"hello_{mode}.fba").read_bytes())
+        if not (np.array_equal(again.values, decoded.values)
+                and np.array_equal(again.mask, decoded.mask)):
+            fail(f"decoding hello_{mode}.fba again differs from hello_{mode}_decoded.fap")
+        psnr = mpeg4face.psnr(original, decoded)
+        shown = printed_psnr(out / f"coding_{mode}.txt")
+        if psnr is None or not (math.isinf(psnr) and math.isinf(shown)
+                                or abs(psnr - shown) <= 0.005):
+            fail(f"{mode}: PSNR of the decoded stream is {psnr}, the demo printed {shown}")
+        ok(f"{mode}: PSNR of hello_{mode}_decoded.fap {psnr:.2f} dB, as printed")
+
+
+def png_size(path: Path) -> tuple[int, int]:
+    data = path.read_bytes()[:24]
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        fail(f"{path} is not a PNG")
+    return struct.unpack(">II", data[16:24])
+
+
+def check_preview(out: Path) -> None:
+    stream = mpeg4face.read_fap(out / "hello.fap")
+    frames = sorted((out / "preview/frames").glob("frame_*.png"))
+    expected = round(stream.duration * stream.frame_rate)
+    if abs(len(frames) - expected) > 1:
+        fail(f"{len(frames)} rendered frames for a stream of {expected}")
+    width, height = png_size(frames[0])
+    sheet = png_size(out / "preview/contact_sheet.png")
+    if sheet[0] < 4 * width or sheet[1] < 3 * height:
+        fail(f"contact sheet {sheet} is smaller than 4 x 3 frames of {width} x {height}")
+    video = (out / "preview/preview.mp4").read_bytes()
+    if video[4:8] != b"ftyp" or len(video) < 10_000:
+        fail("preview.mp4 is not an MPEG-4 file of some size")
+    ok(f"preview: {len(frames)} frames of {width} x {height}, contact sheet {sheet[0]} x "
+       f"{sheet[1]}, video {len(video) // 1024} KiB")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--samples", type=Path, default=ROOT / "samples/build")
+    parser.add_argument("--validator", default="node tests/tools/validate_gltf.mjs")
+    args = parser.parse_args()
+    check_files(args.out)
+    check_gltf([args.out / "makehuman_head.glb", args.out / "hello_animated.glb",
+                args.samples / "makehuman_head.glb", args.samples / "candide3.glb"],
+               args.validator)
+    check_vrml(args.out)
+    check_streams(args.out)
+    check_preview(args.out)
+    print("the demo's output checks out")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
