@@ -81,21 +81,6 @@ def candide3() -> mpeg4face.FaceModel:
     return named
 
 
-def cut_mesh(mesh: mpeg4face.IndexedFaceSet, keep_vertex: np.ndarray, name: str
-             ) -> mpeg4face.IndexedFaceSet:
-    """The faces of `mesh` whose corners are all kept, with only the vertices they use (in
-    their old order, source_index carried so the OBJ's numbering still reads)."""
-    faces = np.split(mesh.coord_index, np.flatnonzero(mesh.coord_index == -1) + 1)
-    faces = [f[:-1] for f in faces if len(f) > 1 and keep_vertex[f[:-1]].all()]
-    used = np.zeros(mesh.vertex_count, dtype=bool)
-    for f in faces:
-        used[f] = True
-    new_index = np.cumsum(used) - 1
-    coord_index = np.concatenate([np.append(new_index[f], -1) for f in faces]).astype(np.int32)
-    return mpeg4face.IndexedFaceSet(
-        name, mesh.coord[used], coord_index, source_index=mesh.source_index[used])
-
-
 def merged(meshes: list[mpeg4face.IndexedFaceSet], name: str) -> mpeg4face.IndexedFaceSet:
     """One mesh of several (MakeHuman's four eyelash groups)."""
     offsets = np.cumsum([0] + [m.vertex_count for m in meshes])
@@ -115,12 +100,14 @@ def makehuman_neutral() -> mpeg4face.FaceModel:
     def group(name: str) -> mpeg4face.IndexedFaceSet:
         return source.meshes[source.find_mesh(name)]
 
-    body = group("body")
-    skin = cut_mesh(body, body.coord[:, 1] > NECK_CUT_Y, "skin")
+    skin = group("body")
+    skin.name = "skin"
     lashes = merged([group(f"helper-{side}-eyelashes-{n}") for side in "lr" for n in (1, 2)],
                     "eyelashes")
-    parts = [cut_mesh(group(g), np.ones(group(g).vertex_count, dtype=bool), name)
-             for name, g in PART_GROUPS.items()]
+    parts = []
+    for name, g in PART_GROUPS.items():
+        parts.append(group(g))
+        parts[-1].name = name
     points, _ = mpeg4face.read_feature_point_csv(MAKEHUMAN / "feature_points.csv", source)
     rotation_centre = np.asarray(points["7.1"].position)  # a free coordinate in the CSV
     centres = [(p.coord.min(axis=0) + p.coord.max(axis=0)) / 2 for p in parts]
@@ -133,6 +120,8 @@ def makehuman_neutral() -> mpeg4face.FaceModel:
     transforms += [mpeg4face.Transform(p.name, translation=c - rotation_centre, meshes=[i + 2])
                    for i, (p, c) in enumerate(zip(parts, centres))]
     head = mpeg4face.FaceModel(meshes=[skin, lashes, *parts], transforms=transforms, roots=[0])
+    # The skin above the neck cut (the parts lie wholly above it).
+    head = mpeg4face.cut_face_model(head, (0.0, NECK_CUT_Y, 0.0), (0.0, 1.0, 0.0))
     points, warnings = mpeg4face.read_feature_point_csv(MAKEHUMAN / "feature_points.csv", head)
     for warning in warnings:
         print(f"makehuman: {warning}", file=sys.stderr)

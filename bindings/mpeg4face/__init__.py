@@ -77,6 +77,7 @@ __all__ = [
     "MorphWeightAnimation",
     "TransformChannel",
     "FaceModel",
+    "cut_face_model",
     # files
     "CandideUnit",
     "CandideModel",

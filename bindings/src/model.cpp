@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Python classes of the face model: MorphTarget, IndexedFaceSet, Transform,
 // FeaturePointBinding, MorphWeightChannel, MorphWeightAnimation, FaceModel.
+#include <algorithm>
+#include <functional>
 #include <optional>
 #include <utility>
 
 #include "bindings.hpp"
+#include "mpeg4face/mesh_cut.hpp"
 
 namespace mpeg4face::python {
 namespace {
@@ -461,6 +464,41 @@ or an array of the wrong shape.)doc");
   });
 }
 
+Eigen::Vector3d vector3(py::handle value, const char* field) {
+  const py::array_t<double> a = checkedFixed(value, field, 3);
+  return {a.at(0), a.at(1), a.at(2)};
+}
+
+void bindCut(py::module_& m) {
+  m.def(
+      "cut_face_model",
+      [](const PyFaceModel& model, py::handle point, py::handle normal,
+         std::optional<std::vector<std::string>> meshes) {
+        const FaceModel core = toCore(model);
+        const Eigen::Vector3d p = vector3(point, "point");
+        const Eigen::Vector3d n = vector3(normal, "normal");
+        std::function<bool(const IndexedFaceSet&)> keep;
+        if (meshes) {
+          keep = [names = *meshes](const IndexedFaceSet& mesh) {
+            return std::find(names.begin(), names.end(), mesh.name) != names.end();
+          };
+        }
+        FaceModel cut;
+        {
+          py::gil_scoped_release release;
+          cut = cutFaceModel(core, p, n, keep);
+        }
+        return py::cast(fromCore(std::move(cut)));
+      },
+      "model"_a, "point"_a, "normal"_a, "meshes"_a = py::none(),
+      R"doc(The model cut by the plane through `point` with `normal` (model space): of each mesh,
+the faces whose corners all lie on the side `normal` points to, and the vertices they use, in
+their old order with their morph targets and source_index. `meshes` names the meshes to keep
+(all if None); the others, and meshes left without faces, are removed. Feature points on kept
+vertices are renumbered, those on removed ones dropped, free coordinates kept. Returns a new
+FaceModel; raises mpeg4face.Error for a model that fails validate() or a zero normal.)doc");
+}
+
 }  // namespace
 
 void bindModel(py::module_& m) {
@@ -470,6 +508,7 @@ void bindModel(py::module_& m) {
   bindFeaturePointBinding(m);
   bindAnimation(m);
   bindFaceModel(m);
+  bindCut(m);
 }
 
 }  // namespace mpeg4face::python

@@ -194,6 +194,23 @@ def test_export_vrml_and_gltf(head, tmp_path, progress):
     assert {fp: b.vertex for fp, b in model.feature_points.items()} == fp_vertices
 
 
+def test_exported_gltf_opens_in_blenders_gltf_importer(head, tmp_path, progress):
+    """A third-party reader of our glTF: Blender's own importer (io_scene_gltf2) opens the
+    exported face with its meshes and one shape key per morph target, named as we wrote."""
+    glb = tmp_path / "head.glb"
+    assert bpy.ops.mpeg4face.export_gltf(filepath=str(glb)) == {"FINISHED"}
+    written = mpeg4face.read_gltf(glb)
+    np.bool = bool  # Debian's importer still uses the alias numpy 1.24 removed
+    before = set(bpy.data.objects)
+    assert bpy.ops.import_scene.gltf(filepath=str(glb)) == {"FINISHED"}
+    imported = [o for o in bpy.data.objects if o not in before and o.type == "MESH"]
+    # The importer keeps the vertices that faces use (CANDIDE-3 has a few loose ones).
+    assert sorted(len(o.data.vertices) for o in imported) == sorted(
+        len(np.unique(m.triangles())) for m in written.meshes)
+    keys = {k.name for o in imported if o.data.shape_keys for k in o.data.shape_keys.key_blocks}
+    assert {t.name for m in written.meshes for t in m.morph_targets} <= keys
+
+
 def scaled_copy(source, fp_vertices, scale):
     """A selected copy of the head's Basis `scale` times as large, with its feature points
     and a key of its own, "Mine"."""

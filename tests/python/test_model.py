@@ -307,3 +307,34 @@ def test_transform_channels_round_trip_and_poses(tmp_path):
     assert table["fap"] == 49 and table["transforms"] == [0] and table["meshes"] == []
     with pytest.raises(TypeError, match=r"transform_channels\[1\]: expected TransformChannel"):
         mpeg4face.MorphWeightAnimation("x", transform_channels=[channel, "not a channel"])
+
+
+def test_cut_face_model_keeps_the_faces_above_the_plane():
+    # Two quads stacked in y (y = 0..1 and 1..2), and a second mesh that is not cut.
+    coord = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [1, 2, 0], [0, 2, 0]]
+    strip = IndexedFaceSet("strip", coord, [0, 1, 2, 3, -1, 3, 2, 4, 5, -1],
+                           morph_targets=[MorphTarget("up", np.tile([0, 1.0, 0], (6, 1)))],
+                           source_index=[10, 11, 12, 13, 14, 15])
+    other = IndexedFaceSet("other", [[0, -5, 0], [1, -5, 0], [0, -4, 0]], [0, 1, 2, -1])
+    model = FaceModel(meshes=[strip, other], transforms=[Transform("t", meshes=[0, 1])],
+                      roots=[0],
+                      feature_points={"2.1": FeaturePointBinding(0, 4),
+                                      "2.2": FeaturePointBinding(0, 0),
+                                      "7.1": FeaturePointBinding(position=[0, 9, 0])})
+    cut = mpeg4face.cut_face_model(model, (0, 0.5, 0), (0, 1, 0))
+    kept = cut.meshes[0]
+    np.testing.assert_array_equal(kept.coord, np.array(coord, dtype=float)[2:])
+    np.testing.assert_array_equal(kept.coord_index, [1, 0, 2, 3, -1])
+    np.testing.assert_array_equal(kept.source_index, [12, 13, 14, 15])
+    assert kept.morph_targets[0].displacements.shape == (4, 3)
+    assert len(cut.meshes) == 1  # "other" lies below the plane: no face left
+    assert cut.feature_points["2.1"].vertex == 2 and "2.2" not in cut.feature_points
+    assert "7.1" in cut.feature_points  # a free coordinate stays
+    assert model.meshes[0].vertex_count == 6  # the input is not changed
+    # Only the meshes named are kept.
+    above = mpeg4face.cut_face_model(model, (0, -10, 0), (0, 1, 0), meshes=["other"])
+    assert [m.name for m in above.meshes] == ["other"] and above.meshes[0].vertex_count == 3
+    with pytest.raises(mpeg4face.Error, match="normal"):
+        mpeg4face.cut_face_model(model, (0, 0, 0), (0, 0, 0))
+    with pytest.raises(ValueError, match="point"):
+        mpeg4face.cut_face_model(model, (0, 0), (0, 1, 0))
