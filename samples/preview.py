@@ -70,7 +70,7 @@ def render_frames(frames: range, folder: Path, title: str) -> list[Path]:
         bpy.ops.render.render(write_still=True)
         Path(scene.render.filepath).replace(path)
         paths.append(path)
-        if n % 10 == 0 or n == len(frames):
+        if n % 50 == 0 or n == len(frames):
             print(f"preview: rendered {n}/{len(frames)} frames "
                   f"({time.monotonic() - started:.0f} s)", flush=True)
     return paths

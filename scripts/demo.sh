@@ -55,11 +55,14 @@ coded() {  # coded MODE: "842.1 bits/s, PSNR 55.64 dB" from what encode printed
 "$cli" apply "$out/makehuman_head.wrl" "$out/hello_dct.fba" -o "$out/hello_animated.glb" >/dev/null
 
 step "preview in Blender: the decoded DCT stream on the head, live through the add-on"
-blender -b samples/build/makehuman_head.blend --python-exit-code 1 \
-  --python samples/preview.py -- "$out/hello_dct.fba" "$out/preview" \
-  --audio "$out/hello.wav" --title "hello_dct.fba (DCT, fap_quant $fap_quant)" \
-  >"$out/preview.log" 2>&1 || { tail -n 40 "$out/preview.log"; exit 1; }
-grep '^preview:' "$out/preview.log" | tail -n 1
+# Blender's own chatter goes to the log; the preview's progress lines are shown.
+if ! blender -b samples/build/makehuman_head.blend --python-exit-code 1 \
+    --python samples/preview.py -- "$out/hello_dct.fba" "$out/preview" \
+    --audio "$out/hello.wav" --title "hello_dct.fba (DCT, fap_quant $fap_quant)" 2>&1 \
+    | tee "$out/preview.log" | grep --line-buffered '^preview:'; then
+  tail -n 40 "$out/preview.log"
+  exit 1
+fi
 
 step "summary ($((SECONDS - started)) s)"
 tee "$out/summary.txt" <<EOF

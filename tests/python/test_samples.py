@@ -201,3 +201,24 @@ def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
     assert "neutral" in scene["markers"] and "fap23_yaw_l_eyeball@20000" in scene["markers"]
     assert "viseme10" in scene["markers"]  # the viseme's jaw pose
     assert scene["camera"] == "Camera"
+
+    # The add-on exports it as the CLI does the .glb: the same tables, poses included.
+    wrl = tmp_path / "from_blender.wrl"
+    export = (
+        "import sys\n"
+        f"sys.path.insert(0, {str(ROOT / 'samples')!r})\n"
+        "import blender_session\n"
+        "blender_session.start()\n"
+        "import bpy\n"
+        "head = bpy.data.objects['MakeHuman head']\n"
+        "bpy.context.view_layer.objects.active = head\n"
+        "head.select_set(True)\n"
+        f"assert bpy.ops.mpeg4face.export_vrml(filepath={str(wrl)!r}) == {{'FINISHED'}}\n")
+    subprocess.run(["blender", "-b", str(blend), "--python-exit-code", "1", "--python-expr",
+                    export], check=True, env=env, capture_output=True)
+    from_blender = mpeg4face.read_vrml(wrl).tables
+    from_gltf = mpeg4face.generate_face(mpeg4face.read_gltf(built / "makehuman_head.glb"))
+    assert sorted((t["fap"], t["select"]) for t in from_blender) == sorted(
+        (t["fap"], t["select"]) for t in from_gltf["face"].tables)
+    eye_turn = next(t for t in from_blender if t["fap"] == 23)
+    assert eye_turn["transforms"] and not eye_turn["meshes"]
