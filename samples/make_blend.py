@@ -151,14 +151,15 @@ def stage(head: bpy.types.Object, model: mpeg4face.FaceModel) -> None:
     light and a fill, and Workbench set up to show the materials."""
     scene = bpy.context.scene
     top, chin = model.feature_point_position("11.4"), model.feature_point_position("2.1")
-    # Aimed at the middle of the face's height, from skull top to a little below the chin.
-    middle = (0.0, (top[1] + chin[1]) / 2 - 0.05 * (top[1] - chin[1]), chin[2])
+    # Aimed a little below the middle of skull top and chin (the mouth matters most), close
+    # enough for the face to fill the frame.
+    middle = (0.0, chin[1] + 0.45 * (top[1] - chin[1]), chin[2])
     centre = Vector(fp_logic.to_blender_axes(middle)[0])
     height = top[1] - chin[1]
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     scene.collection.objects.link(camera)
     camera.data.lens = 85
-    distance = height * 3.1
+    distance = height * 2.5
     direction = Vector((0.25, -1.0, 0.12)).normalized()
     camera.location = centre + direction * distance
     camera.rotation_euler = (-direction).to_track_quat("-Z", "Y").to_euler()
