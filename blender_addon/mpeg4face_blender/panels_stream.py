@@ -18,8 +18,7 @@ class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
         if obj is None or obj.type != "MESH":
             layout.label(text="Make the head mesh the active object", icon="INFO")
             return
-        blocks = obj.data.shape_keys.key_blocks if obj.data.shape_keys else ()
-        count = len(stream_logic.face_keys(b.name for b in blocks).keys)
+        count = len(operators_stream.grammar_keys(obj).keys)
         layout.label(text=f"{count} shape keys named for FAPs",
                      icon="CHECKMARK" if count else "ERROR")
         col = layout.column(align=True)

@@ -102,6 +102,17 @@ def test_mapped_units_replace_the_cloned_keys_of_their_fap_and_sign(built, head)
     assert not set(of) & set(build_samples.EYEBALL_FAPS)  # eyeballs turn as poses
 
 
+def evaluate(head: mpeg4face.FaceModel, sent: dict[int, int]) -> tuple[dict, dict]:
+    """The head's tables evaluated for one frame sending `sent` (FAP -> value), and neutral."""
+    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(head)["face"])
+    mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
+    values = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
+    for fap, value in sent.items():
+        mask[0, fap - 1], values[0, fap - 1] = True, value
+    return evaluator.evaluate(mpeg4face.FapStream.from_arrays([0], mask, values), 0), \
+        evaluator.neutral()
+
+
 def test_a_mapped_key_is_the_makehuman_unit_itself(head):
     """At the key's amplitude the head moves as MakeHuman's target says, vertex by vertex
     through the OBJ numbering (read here independently of the build script)."""
@@ -109,14 +120,8 @@ def test_a_mapped_key_is_the_makehuman_unit_itself(head):
             (ROOT / "samples/makehuman/expression-units/eye-left-closure.target")
             .read_text().splitlines() if line.strip() and not line.startswith("#")]
     offsets = {int(r[0]): np.array(r[1:4], dtype=float) for r in rows}
-    face = mpeg4face.generate_face(head)["face"]
-    evaluator = mpeg4face.FatEvaluator(face)
-    mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
-    values = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
-    mask[0, 18], values[0, 18] = True, 801
-    mask[0, 19] = True  # FAP 20 sent as 0: unsent, it would mirror FAP 19 (the right eyelid)
-    moved = evaluator.evaluate(mpeg4face.FapStream.from_arrays([0], mask, values), 0)
-    neutral = evaluator.neutral()
+    # FAP 20 sent as 0: unsent, it would mirror FAP 19 (the right eyelid).
+    moved, neutral = evaluate(head, {19: 801, 20: 0})
     checked = 0
     # glTF does not keep the OBJ numbering; the neutral head built again does.
     for i, mesh in enumerate(build_samples.makehuman_neutral().meshes):
@@ -128,22 +133,13 @@ def test_a_mapped_key_is_the_makehuman_unit_itself(head):
     assert checked == len(offsets)
 
 
-def evaluate(head: mpeg4face.FaceModel, fap: int, value: int) -> tuple[dict, dict]:
-    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(head)["face"])
-    mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
-    values = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
-    mask[0, fap - 1], values[0, fap - 1] = True, value
-    return evaluator.evaluate(mpeg4face.FapStream.from_arrays([0], mask, values), 0), \
-        evaluator.neutral()
-
-
 def test_eyeballs_and_head_turn_about_their_centres(head):
     eye = head.find_transform("eye_left")
-    state, neutral = evaluate(head, 23, 10000)  # 0.1 rad to the face's left
+    state, neutral = evaluate(head, {23: 10000})  # 0.1 rad to the face's left
     np.testing.assert_allclose(state["rotation"][eye], [0, math.sin(0.05), 0, math.cos(0.05)],
                                atol=1e-9)
     np.testing.assert_allclose(state["translation"][eye], neutral["translation"][eye])
-    state, neutral = evaluate(head, 48, -20000)  # the head pitched up
+    state, neutral = evaluate(head, {48: -20000})  # the head pitched up
     root = head.find_transform("head")
     np.testing.assert_allclose(state["rotation"][root], [-math.sin(0.1), 0, 0, math.cos(0.1)],
                                atol=1e-9)
@@ -152,7 +148,7 @@ def test_eyeballs_and_head_turn_about_their_centres(head):
 
 
 def test_the_jaw_lowers_the_teeth_and_tongue_with_the_chin(head):
-    state, neutral = evaluate(head, 3, 500)
+    state, neutral = evaluate(head, {3: 500})
     chin = head.feature_points["2.1"]
     chin_moved = state["coord"][chin.mesh][chin.vertex] - neutral["coord"][chin.mesh][chin.vertex]
     assert chin_moved[1] < -0.05
