@@ -60,12 +60,6 @@ SPECIFICITY = 0.35
 ALIGNMENT = 0.8
 
 
-def write_atomically(path: Path, write) -> None:
-    part = path.with_name(path.name + ".part")
-    write(part)
-    part.replace(path)
-
-
 def candide3() -> mpeg4face.FaceModel:
     """CANDIDE-3 with its feature points and its FAP units named in the grammar."""
     candide = mpeg4face.read_wfm(CANDIDE / "candide3.wfm")
@@ -131,15 +125,26 @@ def makehuman_neutral() -> mpeg4face.FaceModel:
 
 
 def read_target(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """A MakeHuman .target: OBJ vertex numbers and their offsets."""
-    rows = [line.split() for line in path.read_text().splitlines()
-            if line.strip() and not line.startswith("#")]
-    try:
-        vertices = np.array([int(r[0]) for r in rows], dtype=np.int64)
-        offsets = np.array([[float(v) for v in r[1:4]] for r in rows], dtype=np.float64)
-    except (ValueError, IndexError) as error:
-        raise SystemExit(f"{path}: not a MakeHuman target ({error})") from error
-    return vertices, offsets.reshape(-1, 3)
+    """A MakeHuman .target: OBJ vertex numbers and their offsets (SystemExit naming the
+    line of a row that is not `vertex x y z`)."""
+    vertices, offsets = [], []
+    for number, line in enumerate(path.read_text().splitlines(), 1):
+        fields = line.split()
+        if not fields or line.startswith("#"):
+            continue
+        try:
+            if len(fields) != 4:
+                raise ValueError(f"{len(fields)} fields")
+            offset = [float(v) for v in fields[1:]]
+            if not np.isfinite(offset).all():
+                raise ValueError("an offset is not finite")
+            vertices.append(int(fields[0]))
+            offsets.append(offset)
+        except ValueError as error:
+            raise SystemExit(f"{path}:{number}: expected 'vertex x y z' ({error})") from None
+    if not vertices:
+        raise SystemExit(f"{path}: a MakeHuman target without offsets")
+    return np.array(vertices, dtype=np.int64), np.array(offsets, dtype=np.float64)
 
 
 def unit_displacements(head: mpeg4face.FaceModel, vertices: np.ndarray, offsets: np.ndarray
@@ -374,8 +379,8 @@ def main(argv: list[str] | None = None) -> int:
     keys.update(more_keys)
     head = with_keys(head, keys, [*head.animations, *more_poses])
     mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
-    write_atomically(args.out / "makehuman_units.json", lambda p: p.write_text(
-        json.dumps([asdict(m) for m in mappings], indent=1) + "\n"))
+    mpeg4face.write_file_atomically(args.out / "makehuman_units.json", (
+        json.dumps([asdict(m) for m in mappings], indent=1) + "\n").encode())
     mapped = [m for m in mappings if m.fap]
     print(f"samples: makehuman_head.glb, {sum(m.vertex_count for m in head.meshes)} vertices in "
           f"{len(head.meshes)} meshes, {len(keys)} shape keys ({len(mapped)} of MakeHuman's "

@@ -43,7 +43,10 @@ def import_stream(head: bpy.types.Object, stream: Path) -> tuple[int, int]:
     """The add-on's import, live; returns the scene's frame range it set."""
     bpy.context.view_layer.objects.active = head
     head.select_set(True)
-    result = bpy.ops.mpeg4face.import_fap_stream(filepath=str(stream), preview="LIVE")
+    try:
+        result = bpy.ops.mpeg4face.import_fap_stream(filepath=str(stream), preview="LIVE")
+    except RuntimeError as error:  # the operator's error report (an unreadable stream)
+        raise SystemExit(f"preview: {error}") from None
     if result != {"FINISHED"}:
         raise SystemExit(f"preview: the add-on could not import {stream}")
     scene = bpy.context.scene

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -40,6 +41,20 @@ def test_a_unit_that_moves_other_points_or_off_the_direction_does_not_fit():
     oblique = map_unit("inner", 1, 1, {31: (3.8, 0.71)})
     assert oblique.fap == 0 and "0.71 along FAP 31's direction" in oblique.reason
     assert map_unit("still", 1, 1, {}).reason == "moves no feature point"
+
+
+@pytest.mark.parametrize("text, message", [
+    ("", "without offsets"),
+    ("# only a comment\n", "without offsets"),
+    ("12 0.1 0.2\n", ":1: expected 'vertex x y z' (3 fields)"),
+    ("12 0.1 0.2 0.3\nx 0 0 0\n", ":2: expected 'vertex x y z' (invalid literal"),
+    ("12 0.1 nan 0.3\n", ":1: expected 'vertex x y z' (an offset is not finite)"),
+])
+def test_a_broken_target_file_is_named_with_its_line(tmp_path, text, message):
+    path = tmp_path / "broken.target"
+    path.write_text(text)
+    with pytest.raises(SystemExit, match=re.escape(message)):
+        build_samples.read_target(path)
 
 
 @pytest.fixture(scope="module")
