@@ -316,33 +316,28 @@ def viseme_and_expression_keys(head: mpeg4face.FaceModel
                                ) -> tuple[Keys, list[mpeg4face.MorphWeightAnimation]]:
     """viseme1..14 and expression1..6 (at intensity 63): the FAP keys and poses evaluated
     for the FAPs the viseme and expression FIT presets give each (docs/fit.md), as keys
-    and, where the jaw or eyes move, poses of the same name."""
+    and, where the jaw or eyes move, poses of the same name. Each key is made alone from the
+    neutral face, a stream of its own: in one stream a FAP one row sets would be held into
+    the rows after it."""
     face = mpeg4face.generate_face(head)["face"]
     evaluator = mpeg4face.FatEvaluator(face)
     neutral = evaluator.neutral()
-    n = len(mpeg4face.visemes()) - 1, len(mpeg4face.expressions()) - 1
-    rows = n[0] + n[1]
-    visemes = np.zeros((rows, 4), dtype=np.int32)
-    expressions = np.zeros((rows, 6), dtype=np.int32)
-    mask = np.zeros((rows, mpeg4face.FAP_COUNT), dtype=bool)
-    names = []
-    for v in range(1, n[0] + 1):
-        visemes[v - 1] = (v, 0, 63, 0)
-        mask[v - 1, 0] = True
-        names.append(f"viseme{v}")
-    for e in range(1, n[1] + 1):
-        expressions[n[0] + e - 1] = (e, 63, 0, 0, 0, 0)
-        mask[n[0] + e - 1, 1] = True
-        names.append(f"expression{e}_{mpeg4face.expressions()[e].name}")
-    stream = mpeg4face.FapStream.from_arrays(
-        np.arange(rows), mask, np.zeros((rows, mpeg4face.FAP_COUNT), dtype=np.int32),
-        visemes, expressions)
-    for preset in ("viseme", "expression"):  # each row sends one of the two
-        stream = mpeg4face.fit_preset(preset).interpolate(stream)
+    fits = [mpeg4face.fit_preset(p) for p in ("viseme", "expression")]
+    no_faps = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
+    sent = [(f"viseme{v}", 1, (v, 0, 63, 0), (0,) * 6)
+            for v in range(1, len(mpeg4face.visemes()))]
+    sent += [(f"expression{e}_{mpeg4face.expressions()[e].name}", 2, (0,) * 4,
+              (e, 63, 0, 0, 0, 0)) for e in range(1, len(mpeg4face.expressions()))]
     Path = mpeg4face.TransformChannel.Path
     keys, animations = {}, []
-    for row, name in enumerate(names):
-        state = evaluator.evaluate(stream, row)
+    for name, fap, viseme, expression in sent:
+        mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
+        mask[0, fap - 1] = True
+        stream = mpeg4face.FapStream.from_arrays([0], mask, no_faps, np.array([viseme]),
+                                                 np.array([expression]))
+        for fit in fits:
+            stream = fit.interpolate(stream)
+        state = evaluator.evaluate(stream, 0)
         keys[name] = [c - c0 for c, c0 in zip(state["coord"], neutral["coord"])]
         channels = [mpeg4face.TransformChannel(t, path, times=[0.0], values=state[field][t])
                     for field, path in (("translation", Path.TRANSLATION),

@@ -20,6 +20,7 @@
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/fit.hpp"
 #include "mpeg4face/fit_json.hpp"
+#include "mpeg4face/fit_presets.hpp"
 #include "mpeg4face/gltf.hpp"
 #include "mpeg4face/obj.hpp"
 #include "mpeg4face/spec.hpp"
@@ -282,11 +283,13 @@ TEST(CliFat, CandideUnitsWithAVisemeFitSpeakAVisemeStream) {
   ASSERT_EQ(runCli("encode " + (dir / "visemes.fap").string() + " -o " + fba.string()).status, 0);
   FapStream faps;  // the same mouth sent as the FAPs the viseme preset gives A:
   faps.frames.resize(2);
+  FapFrame aa;
+  aa.set(1, 0);
+  aa.viseme = {10, 0, 63};
+  interpolateFitFrame(visemeFitTable(), aa);
   for (int n : {0, 1}) {
     faps.frames[n].number = n;
-    for (const auto& [fap, value] : {std::pair{3, 380}, {6, 40}, {7, 40}}) {
-      faps.frames[n].set(fap, n == 0 ? 0 : value);
-    }
+    for (int fap : visemeFitFaps()) faps.frames[n].set(fap, n == 0 ? 0 : aa.value(fap));
   }
   writeFapFile(dir / "faps.fap", faps);
   const Points3 neutral = appliedFrame(face, fba, 0, "the face's FIT derived");

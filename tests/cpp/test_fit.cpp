@@ -176,22 +176,97 @@ TEST(Fit, ZeroDenominatorIsAnErrorNamingTheLinkAndFap) {
   EXPECT_FALSE(zero.has(31));
 }
 
+// The FAPs a preset gives `select` of FAP 1 (viseme) or 2 (expression) shown fully.
+FapFrame presetShape(int fap, int select) {
+  FapFrame f;
+  f.set(fap, 0);
+  if (fap == 1) {
+    f.viseme = {select, 0, 63};
+    interpolateFitFrame(visemeFitTable(), f);
+  } else {
+    f.expression = {select, 63, 0, 0};
+    interpolateFitFrame(expressionFitTable(), f);
+  }
+  return f;
+}
+
+// The inner lips' opening at the middle the lip FAPs give, MNS: FAP 4 lowers the upper lip
+// (2.2), FAP 5 raises the lower one (2.3). FAP 3 moves the chin (2.1) only.
+int lipOpening(const FapFrame& f) { return -(f.value(4) + f.value(5)); }
+
+// Both sides alike and the outer lip (51..60) where the inner one is (4..13), so the lips
+// do not shear.
+void expectLipsMoveAsOne(const FapFrame& f, const std::string& what) {
+  for (int inner = 4; inner <= 13; ++inner) {
+    EXPECT_EQ(f.value(inner + 47), f.value(inner)) << what << " FAP " << inner;
+  }
+  for (const auto& [left, right] : {std::pair{6, 7}, {8, 9}, {10, 11}, {12, 13}}) {
+    EXPECT_EQ(f.value(left), f.value(right)) << what << " FAP " << left;
+  }
+}
+
 TEST(Fit, ExpressionPresetUsesTheImpulseOnTheSelect) {
   const FitTable table = expressionFitTable();
   EXPECT_TRUE(fitProblems(table).empty()) << fitProblems(table)[0];
-  ASSERT_EQ(table.nodes[1].size(), 27u);
-  FapFrame surprise;
-  surprise.set(2, 0);
-  surprise.expression = {6, 63, 0, 0};
-  EXPECT_EQ(interpolateFitFrame(table, surprise), 27);
+  ASSERT_EQ(table.nodes[1].size(), expressionFitFaps().size());
+  const FapFrame joy = presetShape(2, 1), surprise = presetShape(2, 6);
   EXPECT_EQ(surprise.value(3), 400);  // open_jaw at full surprise
-  EXPECT_EQ(surprise.value(6), 0);
+  EXPECT_EQ(surprise.value(6), -40);
   FapFrame mixed;
   mixed.set(2, 0);
   mixed.expression = {1, 63, 6, 21};  // full joy, a third of surprise
-  interpolateFitFrame(table, mixed);
-  EXPECT_EQ(mixed.value(6), 250);
-  EXPECT_EQ(mixed.value(3), 133);
+  EXPECT_EQ(interpolateFitFrame(table, mixed), static_cast<int>(expressionFitFaps().size()));
+  EXPECT_EQ(mixed.value(6), std::lround(joy.value(6) + surprise.value(6) / 3.0));
+  EXPECT_EQ(mixed.value(3), std::lround(joy.value(3) + surprise.value(3) / 3.0));
+}
+
+// Each expression as Tekalp-Ostermann's Table 4 describes it.
+TEST(Fit, ExpressionPresetFollowsTheTextualDefinitions) {
+  std::vector<FapFrame> e(7);
+  for (int select = 1; select <= 6; ++select) {
+    e[select] = presetShape(2, select);
+    expectLipsMoveAsOne(e[select], "expression " + std::to_string(select));
+    for (const auto& [left, right] :
+         {std::pair{19, 20}, {21, 22}, {31, 32}, {33, 34}, {35, 36}, {37, 38}}) {
+      EXPECT_EQ(e[select].value(left), e[select].value(right)) << select << " FAP " << left;
+    }
+  }
+  const FapFrame &joy = e[1], &sadness = e[2], &anger = e[3], &fear = e[4], &disgust = e[5],
+                 &surprise = e[6];
+  // Joy: brows relaxed, the mouth open, the corners pulled back (and up).
+  for (int brow = 31; brow <= 38; ++brow) EXPECT_EQ(joy.value(brow), 0) << brow;
+  EXPECT_GT(lipOpening(joy), 0);
+  EXPECT_GT(joy.value(6), 0);
+  EXPECT_GT(joy.value(12), 0);
+  // Sadness: inner brows bent upward, eyes slightly closed, the mouth relaxed.
+  EXPECT_GT(sadness.value(31), sadness.value(35));
+  EXPECT_GT(sadness.value(31), 0);
+  EXPECT_GT(sadness.value(19), 0);
+  EXPECT_LT(sadness.value(19), 512);  // slightly: less than half the iris
+  EXPECT_EQ(lipOpening(sadness), 0);
+  EXPECT_EQ(sadness.value(3), 0);
+  // Anger: inner brows down and together, eyes wide open, lips pressed.
+  EXPECT_LT(anger.value(31), 0);
+  EXPECT_GT(anger.value(37), 0);
+  EXPECT_LT(anger.value(19), 0);
+  EXPECT_LT(lipOpening(anger), 0);
+  EXPECT_EQ(anger.value(3), 0);
+  // Fear: brows raised and together, the inner ones bent upward; eyes alert.
+  EXPECT_GT(fear.value(33), 0);
+  EXPECT_GT(fear.value(31), fear.value(33));
+  EXPECT_GT(fear.value(37), 0);
+  EXPECT_LT(fear.value(19), 0);
+  // Disgust: brows and eyelids relaxed, the upper lip raised.
+  for (int fap : {19, 21, 31, 33, 35, 37}) EXPECT_EQ(disgust.value(fap), 0) << fap;
+  EXPECT_LT(disgust.value(4), 0);
+  EXPECT_LT(disgust.value(8), 0);
+  EXPECT_EQ(disgust.value(5), 0);
+  // Surprise: brows raised, upper lids wide open, the lower relaxed, the jaw and lips open.
+  for (int brow : {31, 33, 35}) EXPECT_GT(surprise.value(brow), 0) << brow;
+  EXPECT_LT(surprise.value(19), 0);
+  EXPECT_EQ(surprise.value(21), 0);
+  EXPECT_GT(surprise.value(3), 0);
+  EXPECT_GE(lipOpening(surprise), 410);  // 0.4 MNS0
 }
 
 TEST(Fit, VisemePresetBlendsTheTwoVisemesMouths) {
@@ -201,28 +276,81 @@ TEST(Fit, VisemePresetBlendsTheTwoVisemesMouths) {
   FapFrame a;  // viseme 10 (A:) shown fully, through either select
   a.set(1, 0);
   a.viseme = {10, 0, 63};
-  EXPECT_EQ(interpolateFitFrame(table, a), 7);
-  EXPECT_EQ(a.value(3), 380);  // the jaw wide open
-  EXPECT_EQ(a.value(6), 40);
-  EXPECT_EQ(a.value(16), 0);
+  EXPECT_EQ(interpolateFitFrame(table, a), static_cast<int>(visemeFitFaps().size()));
+  EXPECT_EQ(a.value(3), 560);  // the jaw wide open
+  EXPECT_EQ(a.value(5), -500);
   FapFrame same = a;
   same.viseme = {0, 10, 0};  // select2 at blend 0: all of it
   interpolateFitFrame(table, same);
-  EXPECT_EQ(same.value(3), 380);
+  for (int fap : visemeFitFaps()) EXPECT_EQ(same.value(fap), a.value(fap)) << fap;
   // A third of the way from U (14) to A: (10): each mouth FAP between the two.
+  const FapFrame u = presetShape(1, 14);
   FapFrame blend;
   blend.set(1, 0);
   blend.viseme = {10, 14, 21};
   interpolateFitFrame(table, blend);
-  EXPECT_EQ(blend.value(3), std::lround(380 / 3.0 + 140 * 2 / 3.0));
-  EXPECT_EQ(blend.value(6), std::lround(40 / 3.0 - 200 * 2 / 3.0));
-  EXPECT_EQ(blend.value(17), std::lround(140 * 2 / 3.0));
+  for (int fap : visemeFitFaps()) {
+    EXPECT_EQ(blend.value(fap), std::lround(a.value(fap) / 3.0 + u.value(fap) * 2 / 3.0)) << fap;
+  }
   FapFrame silence;  // viseme 0: the neutral mouth
   silence.set(1, 0);
   silence.viseme = {0, 0, 63};
   interpolateFitFrame(table, silence);
   EXPECT_EQ(silence.value(3), 0);
   EXPECT_TRUE(silence.has(3));
+}
+
+// Each viseme has its phone class's mouth (docs/fit.md): the FAPs' directions as the
+// standard defines them (3 open_jaw down, 4 lower_t_midlip down, 5 raise_b_midlip up, 6/7
+// stretch outwards, 16/17 push forward).
+TEST(Fit, VisemePresetGivesEachPhoneClassItsMouth) {
+  std::vector<FapFrame> v(15);
+  for (int viseme = 1; viseme <= 14; ++viseme) {
+    v[viseme] = presetShape(1, viseme);
+    expectLipsMoveAsOne(v[viseme], "viseme " + std::to_string(viseme));
+    // The lips never pass through each other by more than a pressed closure.
+    EXPECT_GE(lipOpening(v[viseme]), -102) << viseme;
+    EXPECT_GE(v[viseme].value(3), 0) << viseme;  // open_jaw is unidirectional
+  }
+  // Open vowels (A:, e, Q): the jaw open and the lips parted by at least 0.4 MNS0 by the lip
+  // FAPs alone, the lower lip going down most.
+  for (int open : {10, 11, 13}) {
+    EXPECT_GE(lipOpening(v[open]), 410) << open;
+    EXPECT_GE(v[open].value(3), 400) << open;
+    EXPECT_LT(v[open].value(5), v[open].value(4)) << open;
+    EXPECT_LT(v[open].value(10), 0) << open;  // the lower lip's sides follow its middle
+  }
+  EXPECT_GT(lipOpening(v[10]), lipOpening(v[11]));  // A: the most open
+  // The open vowels more open than the close ones (I, U) and the consonants.
+  for (int other : {2, 3, 4, 5, 6, 7, 8, 9, 12, 14}) {
+    EXPECT_LT(lipOpening(v[other]), 300) << other;
+    EXPECT_LT(v[other].value(3), 300) << other;
+  }
+  // p b m: the jaw at rest, the lips closed: pressed by at most 0.1 MNS0.
+  EXPECT_EQ(v[1].value(3), 0);
+  EXPECT_LT(lipOpening(v[1]), 0);
+  EXPECT_GE(lipOpening(v[1]), -102);
+  // f v: the lower lip raised and drawn back to the upper teeth, the upper lip not lowered.
+  EXPECT_GT(v[2].value(5), 0);
+  EXPECT_LT(v[2].value(16), 0);
+  EXPECT_LE(v[2].value(4), 0);
+  EXPECT_LT(std::abs(lipOpening(v[2])), 102);
+  // Rounded (U, Q, and r, tS dZ S): the corners drawn in and the lips pushed forward, U most.
+  for (int rounded : {6, 9, 13, 14}) {
+    EXPECT_LT(v[rounded].value(6), 0) << rounded;
+    EXPECT_GT(v[rounded].value(16), 0) << rounded;
+    EXPECT_GT(v[rounded].value(17), 0) << rounded;
+  }
+  for (int other = 1; other <= 13; ++other) {
+    EXPECT_LT(v[14].value(6), v[other].value(6)) << other;
+    EXPECT_GT(v[14].value(17), v[other].value(17)) << other;
+  }
+  // Spread (I, s z): the corners outwards; unrounded vowels and consonants push nothing.
+  EXPECT_GT(v[12].value(6), 0);
+  EXPECT_GT(v[7].value(6), 0);
+  for (int unrounded : {1, 3, 4, 5, 7, 8, 10, 11, 12}) {
+    EXPECT_EQ(v[unrounded].value(17), 0) << unrounded;
+  }
 }
 
 TEST(Fit, EditingAndValidationNameTheProblem) {

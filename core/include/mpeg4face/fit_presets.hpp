@@ -23,17 +23,19 @@ FitTable innerOuterLipFitTable(double fmax = kDefaultLipFmax);
 // raise_l/r_m_eyebrow (33, 34) -> raise_l/r_i_eyebrow and raise_l/r_o_eyebrow, f = F.
 FitTable eyebrowFitTable();
 // Expression (FAP 2) -> the 27 low-level FAPs of Tao's Fig. 7 experiment (3..13, 19..26,
-// 31..38): f_i = sum_j delta(select1 - j) p_ij intensity1 + delta(select2 - j) p_ij
-// intensity2, j = 1..6 (joy, sadness, anger, fear, disgust, surprise), p_ij our own
-// estimates of each expression's FAP i at full intensity / 63.
+// 31..38) and the outer lip (51..60), which moves with the inner one: f_i = sum_j
+// delta(select1 - j) p_ij intensity1 + delta(select2 - j) p_ij intensity2, j = 1..6 (joy,
+// sadness, anger, fear, disgust, surprise), p_ij our own estimates of each expression's FAP i
+// at full intensity (after Tekalp-Ostermann Table 4) / 63.
 FitTable expressionFitTable();
-// The 27 FAPs of expressionFitTable, in its child node's order.
+// The 37 FAPs of expressionFitTable, in its child node's order.
 std::span<const int> expressionFitFaps();
 
-// Viseme (FAP 1) -> the mouth's low-level FAPs (3..7, 16, 17), so that a face with tables
-// for those FAPs only (CANDIDE-3's units) speaks a viseme stream: f_i = sum_v
-// delta(select1 - v) p_iv blend + delta(select2 - v) p_iv (63 - blend), v = 1..14, p_iv our
-// own estimates of viseme v's FAP i when shown fully / 63 (docs/fit.md).
+// Viseme (FAP 1) -> the mouth's low-level FAPs (jaw 3, inner lip 4..13, lips pushed 16/17,
+// outer lip 51..60), so that a face with tables for those FAPs only (CANDIDE-3's units) speaks
+// a viseme stream: f_i = sum_v delta(select1 - v) p_iv blend + delta(select2 - v) p_iv
+// (63 - blend), v = 1..14, p_iv viseme v's FAP i when shown fully / 63: each phone class's
+// jaw, lip opening, rounding and protrusion from articulatory phonetics (docs/fit.md).
 FitTable visemeFitTable();
 // The FAPs of visemeFitTable, in its child node's order.
 std::span<const int> visemeFitFaps();
