@@ -328,7 +328,7 @@ void bindSpeech(py::module_& m) {
       },
       "text"_a, "audio"_a, "frame_rate"_a = 25.0, "voice"_a = "", "transition"_a = 0.08,
       "program"_a = "flite",
-      "Text with bookmarks such as <FAP 2 1 40 1 40 800 3> to a FAP stream; flite speaks it "
+      "Text with bookmarks such as <FAP 2 1 40 0 0 800 3> to a FAP stream; flite speaks it "
       "into the .wav `audio`, frame n playing at n / frame_rate seconds into it "
       "(docs/speech.md).");
 }

@@ -482,7 +482,7 @@ class MPEG4FACE_OT_speak_text(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     text: StringProperty(
-        name="Text", default="Hello <FAP 2 1 40 1 40 800 3> world",
+        name="Text", default="Hello <FAP 2 1 40 0 0 800 3> world",
         description="What to say; bookmarks <FAP 2 ...> (expressions) and <FAP n ...> "
         "(low-level FAPs) as in docs/speech.md")
     voice: EnumProperty(name="Voice", items=VOICES, default="kal")

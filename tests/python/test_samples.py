@@ -321,3 +321,13 @@ def test_each_expression_key_is_made_alone_from_the_neutral_face(head):
             expected = state["coord"][i] - neutral["coord"][i]
             got = np.zeros_like(expected) if target is None else target.displacements
             np.testing.assert_allclose(got, expected, atol=1e-5, err_msg=f"{name} mesh {i}")
+
+
+def test_the_sample_sentence_shows_each_expression_once():
+    """An expression in both slots of a FAP 2 bookmark adds its motion twice (docs/speech.md):
+    the sample sentence's joy at 40 takes one slot."""
+    text = (ROOT / "samples/streams/hello.txt").read_text()
+    marks = [[int(v) for v in m.split()] for m in re.findall(r"<FAP 2 ([-\d ]+)>", text)]
+    assert marks
+    for select1, intensity1, select2, intensity2, _, _ in marks:
+        assert select2 == 0 or select2 != select1, (select1, intensity1, select2, intensity2)

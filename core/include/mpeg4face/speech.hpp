@@ -96,7 +96,8 @@ FapStream visemeStream(std::span<const TimedPhone> phones, double frameRate,
                        const VisemeOptions& options = {});
 
 // --- Bookmarks ---------------------------------------------------------------------------
-// <FAP 2 select1 intensity1 select2 intensity2 duration curve> (an expression) or
+// <FAP 2 select1 intensity1 select2 intensity2 duration curve> (expressions: two shown at
+// once, whose motions add; one expression leaves select2 intensity2 at 0 0) or
 // <FAP n value duration curve> (a low-level FAP 3..68); duration in ms, curve 1 linear,
 // 2 triangular (up to the value and back), 3 Hermite (the paper's Fig. 14 uses 3).
 enum class TimeCurve { Linear = 1, Triangular = 2, Hermite = 3 };
