@@ -26,3 +26,34 @@ def start() -> list[str]:
         raise SystemExit(f"{ADDON}: the add-on did not enable (see the messages above)")
     argv = sys.argv
     return argv[argv.index("--") + 1:] if "--" in argv else []
+
+
+def save_sheet(paths: list[Path], out: Path, columns: int) -> None:
+    """The images (all of one size) tiled `columns` wide, in reading order, as a PNG written
+    through a .part name. Inside Blender: bpy loads and saves the images."""
+    import bpy
+    import numpy as np
+
+    tiles = []
+    for path in paths:
+        image = bpy.data.images.load(str(path))
+        width, height = image.size
+        tiles.append(np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4))
+        bpy.data.images.remove(image)
+    gap = 6
+    rows = -(-len(tiles) // columns)
+    sheet = np.ones((rows * (height + gap) + gap, columns * (width + gap) + gap, 4),
+                    dtype=np.float32)
+    for i, tile in enumerate(tiles):
+        # Blender's pixel rows run bottom to top: the first tile goes at the top.
+        r, c = rows - 1 - i // columns, i % columns
+        y, x = gap + r * (height + gap), gap + c * (width + gap)
+        sheet[y:y + height, x:x + width] = tile
+    image = bpy.data.images.new("contact sheet", sheet.shape[1], sheet.shape[0], alpha=False)
+    image.pixels.foreach_set(sheet.ravel())
+    part = out.with_name(out.stem + ".part.png")
+    image.filepath_raw = str(part)
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)
+    part.replace(out)

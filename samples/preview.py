@@ -83,28 +83,7 @@ def contact_sheet(paths: list[Path], out: Path) -> list[int]:
     """SHEET_ROWS x SHEET_COLUMNS frames spread over the stream; returns their frames."""
     count = min(len(paths), SHEET_COLUMNS * SHEET_ROWS)
     chosen = [paths[i] for i in np.linspace(0, len(paths) - 1, count).round().astype(int)]
-    tiles = []
-    for path in chosen:
-        image = bpy.data.images.load(str(path))
-        width, height = image.size
-        tiles.append(np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4))
-        bpy.data.images.remove(image)
-    gap = 6
-    rows = -(-count // SHEET_COLUMNS)
-    sheet = np.ones((rows * (height + gap) + gap, SHEET_COLUMNS * (width + gap) + gap, 4),
-                    dtype=np.float32)
-    for i, tile in enumerate(tiles):
-        # Blender's pixel rows run bottom to top: the first tile goes at the top.
-        r, c = rows - 1 - i // SHEET_COLUMNS, i % SHEET_COLUMNS
-        y, x = gap + r * (height + gap), gap + c * (width + gap)
-        sheet[y:y + height, x:x + width] = tile
-    image = bpy.data.images.new("contact sheet", sheet.shape[1], sheet.shape[0], alpha=False)
-    image.pixels.foreach_set(sheet.ravel())
-    part = out.with_name(out.stem + ".part.png")
-    image.filepath_raw = str(part)
-    image.file_format = "PNG"
-    image.save()
-    part.replace(out)
+    blender_session.save_sheet(chosen, out, SHEET_COLUMNS)
     return [int(p.stem.split("_")[1]) for p in chosen]
 
 
