@@ -176,6 +176,8 @@ TEST(Fit, ZeroDenominatorIsAnErrorNamingTheLinkAndFap) {
   EXPECT_FALSE(zero.has(31));
 }
 
+namespace {
+
 // The FAPs a preset gives `select` of FAP 1 (viseme) or 2 (expression) shown fully.
 FapFrame presetShape(int fap, int select) {
   FapFrame f;
@@ -204,6 +206,8 @@ void expectLipsMoveAsOne(const FapFrame& f, const std::string& what) {
     EXPECT_EQ(f.value(left), f.value(right)) << what << " FAP " << left;
   }
 }
+
+}  // namespace
 
 TEST(Fit, ExpressionPresetUsesTheImpulseOnTheSelect) {
   const FitTable table = expressionFitTable();
