@@ -250,6 +250,11 @@ int runCheck(const std::vector<std::string>& rawArgs) {
     if (!e.file().empty()) throw;
     throw Error(args.head, 0, e.field(), e.reason());
   }
+  if (check.keys.empty() && check.frames.empty()) {
+    throw Error(args.head, 0, face ? "faceDefTables" : "morph targets",
+                "no shape key named as a FAP, viseme or expression (docs/fat.md) and no "
+                "--stream: nothing to check");
+  }
   const FaceModel& model = face ? wrl.faceSceneGraph : head;
   if (args.json) {
     printJson(args.head, check, model);

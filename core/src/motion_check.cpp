@@ -482,11 +482,15 @@ MotionCheck checkMotion(const FaceModel& head, std::span<const FapStream> stream
     checker.addKey(checker.check(coord, copy.name), total, progress);
   }
   const FatEvaluator evaluator(generated.face, measureFapu(neutral));
-  return finish(checker, generated.face, evaluator, streams,
-                progress ? MotionProgress([&](std::size_t done, std::size_t) {
-                  progress(copies.copies.size() + done, total);
-                })
-                         : MotionProgress{});
+  MotionCheck result = finish(checker, generated.face, evaluator, streams,
+                              progress ? MotionProgress([&](std::size_t done, std::size_t) {
+                                progress(copies.copies.size() + done, total);
+                              })
+                                       : MotionProgress{});
+  if (copies.copies.empty()) {
+    result.notes.push_back("no shape key named as a FAP, viseme or expression (docs/fat.md)");
+  }
+  return result;
 }
 
 MotionCheck checkMotion(const MpegFace& face, std::span<const FapStream> streams,

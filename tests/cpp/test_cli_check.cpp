@@ -7,7 +7,9 @@
 
 #include "motion_check_fixture.hpp"
 #include "mpeg4face/fap_file.hpp"
+#include "mpeg4face/fat_names.hpp"
 #include "mpeg4face/gltf.hpp"
+#include "mpeg4face/vrml.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -81,6 +83,19 @@ TEST(CliCheck, JsonAndLimitOptions) {
   EXPECT_EQ(runCli("check " + writeHead(false)).status, 0);
 }
 
+TEST(CliCheck, FaceWithTables) {
+  const std::string head = writeHead(true);
+  const std::string wrl = (scratchDir() / "bad.wrl").string();
+  writeVrml(faceFromShapeKeys(readGltf(head)).face, wrl);
+  const auto r = runCli("check " + wrl + " --json");
+  EXPECT_EQ(r.status, 4) << r.out;
+  const auto j = nlohmann::json::parse(r.stdoutOnly);
+  std::vector<std::string> names;
+  for (const auto& k : j["keys"]) names.push_back(k["name"]);
+  EXPECT_EQ(names, (std::vector<std::string>{"expression1", "fap3_open_jaw@1024"}));
+  EXPECT_NEAR(j["keys"][0]["edge_ratio_max"].get<double>(), 3.0, 1e-5);
+}
+
 TEST(CliCheck, BadInput) {
   const auto missing = runCli("check " + (scratchDir() / "none.glb").string());
   EXPECT_EQ(missing.status, 1);
@@ -91,6 +106,12 @@ TEST(CliCheck, BadInput) {
   EXPECT_NE(stream.out.find("broken.fap"), std::string::npos) << stream.out;
   EXPECT_EQ(stream.stdoutOnly, "");  // nothing checked, nothing printed
   EXPECT_EQ(runCli("check head.obj").status, 2);
+  test::MotionHead still = test::motionHead();
+  const std::string none = (scratchDir() / "none_named.glb").string();
+  writeGltf(still.model, none);
+  const auto nothing = runCli("check " + none);
+  EXPECT_EQ(nothing.status, 1);
+  EXPECT_NE(nothing.out.find("nothing to check"), std::string::npos) << nothing.out;
   const auto option = runCli("check " + writeHead(false) + " --max-edge-ratio x");
   EXPECT_EQ(option.status, 2);
   EXPECT_NE(option.out.find("--max-edge-ratio takes a number"), std::string::npos);
