@@ -5,8 +5,6 @@ mpeg4face.check_motion, one that selects a pose's offending vertices in Edit Mod
 "Motion Check" panel listing the worst keys and frames. The last result of each object is
 kept for the session (not saved with the .blend)."""
 
-from __future__ import annotations
-
 from pathlib import Path
 from typing import Any
 
@@ -133,7 +131,8 @@ class MPEG4FACE_PT_motion_check(_Sidebar, bpy.types.Panel):
                 line = box.row()
                 line.label(text=r.name)
                 line.label(text=r.text)
-                op = line.operator("mpeg4face.select_offending", text="", icon="RESTRICT_SELECT_OFF")
+                op = line.operator("mpeg4face.select_offending", text="",
+                                   icon="RESTRICT_SELECT_OFF")
                 op.kind, op.index = r.kind, r.index
 
 
