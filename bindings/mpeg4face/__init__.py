@@ -121,4 +121,6 @@ __all__ = [
     "read_fit_json",
     "fit_table_from_json",
     "fit_preset",
+    # the motion check
+    "check_motion",
 ]
