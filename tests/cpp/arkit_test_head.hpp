@@ -51,7 +51,7 @@ inline FaceModel arkitTestHead(int padding = 0) {
   FaceModel head;
   head.addMeshWithTransform(std::move(skin));
   for (std::size_t i = 0; i < points.size(); ++i) {
-    head.featurePoints[points[i].id] = {0, static_cast<int>(i), {}};
+    head.featurePoints[points[i].id] = {0, static_cast<int>(i), Eigen::Vector3d::Zero()};
   }
   return head;
 }
