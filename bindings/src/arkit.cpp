@@ -96,7 +96,7 @@ void bindArkit(py::module_& m) {
   m.def(
       "find_arkit_shapes",
       [](py::handle head) {
-        const FaceModel core = toCore(asFaceModel(head, "find_arkit_shapes"), Depth::Structure);
+        const FaceModel core = toCore(asFaceModel(head, "find_arkit_shapes"));
         return shapeList(findArkitShapes(core));
       },
       "head"_a,

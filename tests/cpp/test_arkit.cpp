@@ -229,7 +229,7 @@ TEST(Arkit, EyeballTurnsAreRotationsOfTheEyesTransform) {
   eye.coordIndex = {0, 4, 8, -1};
   const int mesh = head.addMeshWithTransform(eye);
   head.transforms.back().translation = {0.03, 0.03, 0.07};
-  head.featurePoints["3.5"] = {mesh, 0, {}};
+  head.featurePoints["3.5"] = {mesh, 0, Eigen::Vector3d::Zero()};
   // eyeLookOut_L turns it 0.3 rad to the left (about +y); eyeLookUp_L moves the lid only.
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
   MorphTarget look{"eyeLookOut_L", Points3(12, 3)};
