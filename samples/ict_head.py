@@ -49,6 +49,16 @@ PARTS: dict[str, list[tuple[int, int]]] = {
 }
 TEETH_VERTICES = {"teeth_upper": (17039, 19246), "teeth_lower": (19247, 21450)}
 RIGID = ("eye_left", "eye_right", "teeth_upper", "teeth_lower", "gums_tongue")
+# ICT's eyeLook shapes move the lids and the skin around the eyes but not the eyeballs. The
+# sample adds the eyeball's turn to each: at weight 1 a rotation about the eyeball's centre
+# by EYE_TURN radians, the rate at which Live Link Face's eye angles follow the eyeLook
+# weights in the project's capture (yaw 0.58-0.62 rad per unit of eyeLookOut - eyeLookIn,
+# pitch 0.61 per unit of eyeLookUp - eyeLookDown, correlation 0.98-1.0).
+EYE_TURN = 0.61
+# (axis, sign for the left eye, sign for the right eye) of each eyeLook turn in the standard's axes: about +x turns the front (+z)
+# down, about +y turns it to the face's left (+x).
+EYE_LOOKS = {"eyeLookUp": ((1, 0, 0), -1, -1), "eyeLookDown": ((1, 0, 0), 1, 1),
+             "eyeLookOut": ((0, 1, 0), 1, -1), "eyeLookIn": ((0, 1, 0), -1, 1)}
 # Landmark numbers in the common 68-point order (ICT's idx_to_landmark_verts), by side:
 # the face's left (+x) is the image's right, the second index of each pair.
 LM = {"jaw_mid": 8, "nose_tip": 30, "subnasale": 33, "lip_top": 51, "lip_bottom": 57,
@@ -145,6 +155,26 @@ def skin_source_index() -> np.ndarray:
     source_index)."""
     _, faces, _, _ = read_ict()
     return np.unique(np.concatenate(part_faces(faces, "skin")))
+
+
+def rotation(axis: tuple[int, int, int], angle: float) -> np.ndarray:
+    """The 3x3 rotation by `angle` about the unit `axis` (Rodrigues)."""
+    k = np.asarray(axis, dtype=float)
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+def add_eye_turns(V: np.ndarray, faces: list[np.ndarray], expressions: dict[str, np.ndarray],
+                  centres: dict[str, np.ndarray]) -> None:
+    """Each eyeLook shape also turns its eyeball (EYE_TURN) about the eyeball's centre."""
+    for eye, suffix, column in (("eye_left", "_L", 1), ("eye_right", "_R", 2)):
+        ball = np.unique(np.concatenate(part_faces(faces, eye)))
+        for look, spec in EYE_LOOKS.items():
+            turn = rotation(spec[0], spec[column] * EYE_TURN)
+            p = V[ball] - centres[eye]
+            offsets = expressions[look + suffix]
+            assert not offsets[ball].any(), f"ICT's {look + suffix} moves the eyeball"
+            offsets[ball] = p @ turn.T - p
 
 
 def eyeball_centre(V: np.ndarray, faces: list[np.ndarray]) -> np.ndarray:
@@ -444,6 +474,7 @@ def build(with_keys: bool = True) -> tuple[mpeg4face.FaceModel, dict[str, Rule]]
     V, faces, landmarks, expressions = read_ict()
     centres = {eye: eyeball_centre(V, part_faces(faces, eye)) for eye in ("eye_left", "eye_right")}
     fp = pick_feature_points(V, faces, landmarks, centres, expressions["jawOpen"])
+    add_eye_turns(V, faces, expressions, centres)
     rotation_centre = np.asarray(fp["7.1"][0]) * SCALE
     meshes, lookups = [], {}
     for name in PARTS:

@@ -66,6 +66,13 @@ class Scene:
             material = bpy.data.materials.new(mesh.name)
             material.diffuse_color = (*COLOURS.get(mesh.name, (0.7, 0.7, 0.7)), 1.0)
             data.materials.append(material)
+            if mesh.name.startswith("eye_"):  # the iris: the front cap of the cornea, 3 mm deep
+                iris = bpy.data.materials.new(mesh.name + "_iris")
+                iris.diffuse_color = (0.22, 0.15, 0.1, 1.0)
+                data.materials.append(iris)
+                front = mesh.coord[:, 2] > mesh.coord[:, 2].max() - 0.003
+                for polygon in data.polygons:
+                    polygon.material_index = int(all(front[i] for i in polygon.vertices))
             obj = bpy.data.objects.new(mesh.name, data)
             bpy.context.scene.collection.objects.link(obj)
             self.objects.append(obj)

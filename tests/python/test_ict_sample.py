@@ -84,19 +84,45 @@ def test_eyes_turn_about_their_eyeball_centres(built):
 
 def test_the_expression_shapes_are_morph_targets_of_the_meshes_they_move(in_memory):
     head, _ = in_memory
+    eyes = {head.find_mesh("eye_left"), head.find_mesh("eye_right")}
     with np.load(ICT / "expressions.npz") as npz:
         names = set(npz.files)
-        for mesh in head.meshes:
+        for i, mesh in enumerate(head.meshes):
             moved = {n for n in names if np.any(npz[n][mesh.source_index])}
+            if i in eyes:  # ICT's eyeLook shapes move no eyeball; the sample turns it
+                side = "_L" if mesh.name == "eye_left" else "_R"
+                assert moved == {"PupilDilate" + side}
+                moved |= {look + side for look in ict_head.EYE_LOOKS}
             assert {t.name for t in mesh.morph_targets} == moved, mesh.name
-            for t in mesh.morph_targets[::9]:
-                assert np.allclose(t.displacements, npz[t.name][mesh.source_index] * 0.01)
+            for t in mesh.morph_targets:
+                if i not in eyes or t.name.startswith("PupilDilate"):
+                    assert np.allclose(t.displacements, npz[t.name][mesh.source_index] * 0.01)
     assert len(names) == 57
-    every = {t.name for m in head.meshes for t in m.morph_targets}
-    assert every == names
-    # ICT's eyeLook shapes move the lids, not the eyeballs (only PupilDilate does).
-    eye = head.meshes[head.find_mesh("eye_left")]
-    assert [t.name for t in eye.morph_targets] == ["PupilDilate_L"]
+    assert {t.name for m in head.meshes for t in m.morph_targets} == names
+
+
+def test_eye_looks_turn_the_eyeballs_about_their_centres(built):
+    """At weight 1 an eyeLook shape is the eyeball turned by 0.61 rad about its centre
+    towards the look's side (the pupil 3.5 / 3.6 moves along it)."""
+    head, _ = built
+    root = head.transforms[head.roots[0]].translation
+    for eye, pupil, side, outward in (("eye_left", "3.5", "_L", 1), ("eye_right", "3.6", "_R", -1)):
+        mesh = head.meshes[head.find_mesh(eye)]
+        centre = root + head.transforms[head.find_transform(eye)].translation
+        coord = mesh.coord + root + head.transforms[head.find_transform(eye)].translation
+        p0 = head.feature_point_position(pupil) - centre
+        looks = {t.name: t.displacements for t in mesh.morph_targets}
+        for look, axis, sign in (("eyeLookUp", 1, 1), ("eyeLookDown", 1, -1),
+                                 ("eyeLookOut", 0, outward), ("eyeLookIn", 0, -outward)):
+            turned = coord + looks[look + side]
+            assert np.allclose(np.linalg.norm(turned - centre, axis=1),
+                               np.linalg.norm(coord - centre, axis=1), atol=1e-6)  # float32 in glTF
+            p1 = p0 + looks[look + side][head.feature_points[pupil].vertex]
+            plane = [axis, 2]  # y, z about x for up / down; x, z about y for out / in
+            a, b = p0[plane], p1[plane]
+            angle = np.arccos(a @ b / np.linalg.norm(a) / np.linalg.norm(b))
+            assert abs(angle - ict_head.EYE_TURN) < 1e-4, (eye, look)
+            assert sign * (p1 - p0)[axis] > 0.008, (eye, look)
 
 
 def test_every_feature_point_is_bound_and_left_and_right_mirror(built):
