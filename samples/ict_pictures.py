@@ -93,7 +93,10 @@ class Scene:
     def pose(self, key: str | None = None) -> list[np.ndarray]:
         """Model-space vertices with the morph targets named `key` at weight 1 and the
         Transforms of the pose named `key` (if any)."""
-        transforms = self.head.transforms
+        transforms = [mpeg4face.Transform(t.name, translation=t.translation, rotation=t.rotation,
+                                          scale=t.scale, center=t.center, children=t.children,
+                                          meshes=t.meshes)
+                      for t in self.head.transforms]  # copies: the head's own would change
         for animation in self.head.animations:
             if animation.name == key:
                 for channel in animation.transform_channels:

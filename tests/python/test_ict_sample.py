@@ -5,6 +5,7 @@ shapes (mpeg4face.arkit_fap_keys, docs/arkit.md), issue 18's acceptance on them.
 
 from __future__ import annotations
 
+import subprocess
 import sys
 from pathlib import Path
 
@@ -33,17 +34,24 @@ DIRECTIONS = {"up": (0, 1, 0), "down": (0, -1, 0), "left": (1, 0, 0), "right": (
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    """The sample built once, as samples/build.sh does, and read back from the .glb; with
-    the head in memory (it has source_index, which glTF does not carry)."""
+def built_glb(tmp_path_factory) -> Path:
+    """The sample built once, as samples/build.sh does."""
     out = tmp_path_factory.mktemp("ict")
     assert ict_head.main(["--out", str(out)]) == 0
-    head = mpeg4face.read_gltf(out / "ict_head.glb")
+    return out / "ict_head.glb"
+
+
+@pytest.fixture(scope="module")
+def built(built_glb):
+    """The head read back from the .glb and its FAPU."""
+    head = mpeg4face.read_gltf(built_glb)
     return head, mpeg4face.measure_fapu(head)
 
 
 @pytest.fixture(scope="module")
 def in_memory():
+    """The head in memory, without FAP keys (it has source_index, which glTF does not
+    carry)."""
     return ict_head.build(with_keys=False)
 
 
@@ -231,3 +239,20 @@ def test_open_jaw_at_jawopens_amplitude_parts_the_inner_lips(built):
     b = head.feature_points
     gap = (d[b["2.2"].mesh][b["2.2"].vertex] - d[b["2.3"].mesh][b["2.3"].vertex])[1]
     assert gap >= 0.5 * fapu.mns0.value
+
+
+@needs_keys
+def test_fat_generate_makes_tables_of_the_keys(built, built_glb, tmp_path):
+    """`mpeg4face fat generate` on the built sample gives a FaceDefTable per FAP keyed, per
+    viseme and per expression."""
+    head, _ = built
+    cli = Path(mpeg4face.__file__).resolve().parents[2] / "bin/mpeg4face"
+    out = tmp_path / "ict.wrl"
+    run = subprocess.run([str(cli), "fat", "generate", str(built_glb), "-o", str(out)],
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    tables = mpeg4face.read_vrml(out).tables
+    keyed = {p["fap"] for p, _ in fap_keys(head).values()}
+    assert keyed <= {t["fap"] for t in tables}
+    assert {t["select"] for t in tables if t["fap"] == 1} == set(range(1, 15))
+    assert {t["select"] for t in tables if t["fap"] == 2} == set(range(1, 7))
