@@ -4,7 +4,8 @@
 # (tests/data/candide3, tests/data/makehuman, tests/data/xface-fap, samples/makehuman,
 # tests/data/ict-facekit; their notices beside them): CANDIDE-3 as glTF, the MakeHuman head
 # as .glb and .blend, the ICT-FaceKit head as .glb, and the FAP streams (the Xface ones, and
-# samples/streams/hello.txt spoken). docs/samples.md says what each holds. Needs the build (scripts/build.sh); takes a few seconds.
+# samples/streams/hello.txt spoken). docs/samples.md says what each holds. Needs the build
+# (scripts/build.sh); takes a few seconds.
 # Environment: MPEG4FACE_BUILD_DIR (default build/release), BLENDER (default blender).
 set -euo pipefail
 cd "$(dirname "$0")/.."
