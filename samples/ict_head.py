@@ -20,7 +20,6 @@ import argparse
 import heapq
 import json
 import sys
-from collections.abc import Callable
 from pathlib import Path
 
 import mpeg4face
@@ -55,8 +54,8 @@ RIGID = ("eye_left", "eye_right", "teeth_upper", "teeth_lower", "gums_tongue")
 # weights in the project's capture (yaw 0.58-0.62 rad per unit of eyeLookOut - eyeLookIn,
 # pitch 0.61 per unit of eyeLookUp - eyeLookDown, correlation 0.98-1.0).
 EYE_TURN = 0.61
-# (axis, sign for the left eye, sign for the right eye) of each eyeLook turn in the standard's axes: about +x turns the front (+z)
-# down, about +y turns it to the face's left (+x).
+# (axis, sign for the left eye, sign for the right eye) of each eyeLook turn in the
+# standard's axes: about +x turns the front (+z) down, about +y to the face's left (+x).
 EYE_LOOKS = {"eyeLookUp": ((1, 0, 0), -1, -1), "eyeLookDown": ((1, 0, 0), 1, 1),
              "eyeLookOut": ((0, 1, 0), 1, -1), "eyeLookIn": ((0, 1, 0), -1, 1)}
 # Landmark numbers in the common 68-point order (ICT's idx_to_landmark_verts), by side:
@@ -86,7 +85,8 @@ class Surface:
         normals = np.zeros_like(V)
         for f in faces:
             p = V[f]
-            np.add.at(normals, f, np.cross(p[2] - p[0], p[-1] - p[1] if len(f) == 4 else p[1] - p[0]))
+            across = p[-1] - p[1] if len(f) == 4 else p[1] - p[0]
+            np.add.at(normals, f, np.cross(p[2] - p[0], across))
         self.normals = normals / np.maximum(np.linalg.norm(normals, axis=1), 1e-12)[:, None]
 
     def path(self, a: int, b: int) -> list[int]:
@@ -205,7 +205,8 @@ def nearest_x(V: np.ndarray, arc: list[int], x: float) -> int:
 
 
 def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[int],
-                        eye_centres: dict[str, np.ndarray], jaw_open: np.ndarray) -> dict[str, Rule]:
+                        eye_centres: dict[str, np.ndarray],
+                        jaw_open: np.ndarray) -> dict[str, Rule]:
     """{feature point: (OBJ vertex or free xyz in cm, rule)}; docs/samples.md lists the
     rules."""
     skin_faces = part_faces(faces, "skin")
@@ -239,7 +240,8 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
                               ("2.8", inner_low, l24), ("2.9", inner_low, l25)):
         put(name, nearest_x(V, arc, V[corner, 0] / 2),
             f"edge path through the {'upper' if arc is inner_up else 'lower'} inner lip landmarks "
-            f"(64-60 via {'62' if arc is inner_up else '66'}), x nearest {'2.4' if corner == l24 else '2.5'}.x / 2")
+            f"(64-60 via {'62' if arc is inner_up else '66'}), "
+            f"x nearest {'2.4' if corner == l24 else '2.5'}.x / 2")
     # The outer lip contour: the edge paths through the 68-point outer lip landmarks.
     put("8.1", lm[LM["lip_top"]], "landmark 51 (outer upper lip, midline)")
     put("8.2", lm[LM["lip_bottom"]], "landmark 57 (outer lower lip, midline)")
@@ -250,9 +252,11 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
         upper = skin.contour([lm[i] for i in OUTER_UPPER_LIP[side]])
         lower = skin.contour([lm[i] for i in OUTER_LOWER_LIP[side]])
         put(c85, nearest_x(V, upper, V[corner, 0] / 2),
-            f"edge path through the outer upper lip landmarks 51..{OUTER_UPPER_LIP[side][-1]}, x nearest {c83}.x / 2")
+            f"edge path through the outer upper lip landmarks 51..{OUTER_UPPER_LIP[side][-1]}, "
+            f"x nearest {c83}.x / 2")
         put(c87, nearest_x(V, lower, V[corner, 0] / 2),
-            f"edge path through the outer lower lip landmarks 57..{OUTER_LOWER_LIP[side][-1]}, x nearest {c83}.x / 2")
+            f"edge path through the outer lower lip landmarks 57..{OUTER_LOWER_LIP[side][-1]}, "
+            f"x nearest {c83}.x / 2")
         put(cupid, max(upper[1:-1], key=lambda v: V[v, 1]),
             "highest vertex of that upper-lip path (Cupid's bow)")
 
@@ -260,7 +264,7 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
     profile = face_mid[np.argsort(-V[face_mid, 1])]
     y, z = V[profile, 1], V[profile, 2]
     tip = int(profile[np.argmax(z)])
-    assert np.linalg.norm(V[tip] - V[lm[LM["nose_tip"]]]) < 0.5, "landmark 30 is not at the nose tip"
+    assert np.linalg.norm(V[tip] - V[lm[LM["nose_tip"]]]) < 0.5, "landmark 30 is off the nose tip"
     put("9.3", tip, "most forward midline vertex (landmark 30 is 3 mm above it)")
     sub = lm[LM["subnasale"]]
     put("9.15", sub, "landmark 33 (subnasale, bottom of the nose on the midline)")
@@ -277,8 +281,9 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
     # Eyes. The lid margins seen from the front are the edge loops through the 68-point eye
     # landmarks (the seam with the eye socket, where the lids rest on the eyeball, lies
     # 2-3 mm further up and in, hidden behind them); eyeBlink brings them together.
-    for side, (eye, names) in enumerate((("eye_left", ("3.7", "3.11", "3.1", "3.3", "3.13", "3.9", "3.5")),
-                                         ("eye_right", ("3.12", "3.8", "3.2", "3.4", "3.14", "3.10", "3.6")))):
+    eye_names = (("eye_left", ("3.7", "3.11", "3.1", "3.3", "3.13", "3.9", "3.5")),
+                 ("eye_right", ("3.12", "3.8", "3.2", "3.4", "3.14", "3.10", "3.6")))
+    for side, (eye, names) in enumerate(eye_names):
         o, i, u, d, uo, do, pupil = names
         lo_, li_ = (45, 42) if side == 0 else (36, 39)
         upper_lms, lower_lms = ((42, 43, 44, 45), (42, 47, 46, 45)) if side == 0 else \
@@ -301,7 +306,8 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
         put(do, skin.front(mid_x, V[fp[d][0], 1] - 0.25 * width, x_weight=4),
             f"front vertex at x = {d}.x, 0.25 W below {d}")
         ball = np.unique(np.concatenate(part_faces(faces, eye)))
-        put(pupil, int(ball[np.argmax(V[ball, 2])]), f"{eye} mesh: the most forward vertex (cornea apex)")
+        put(pupil, int(ball[np.argmax(V[ball, 2])]),
+            f"{eye} mesh: the most forward vertex (cornea apex)")
 
     # Eyebrows: the 68-point brow landmarks sit on the brow's upper edge.
     for side, (inner, outer, top) in enumerate((("4.1", "4.5", "4.3"), ("4.2", "4.6", "4.4"))):
@@ -309,7 +315,8 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
         put(outer, lm[BROW[side][-1]], f"landmark {BROW[side][-1]} (outer brow end)")
         brow = skin.contour([lm[i] for i in BROW[side]])
         put(top, max(brow, key=lambda v: V[v, 1]),
-            "highest vertex of the edge path through the brow landmarks (Table 6 allows the top's x)")
+            "highest vertex of the edge path through the brow landmarks "
+            "(Table 6 allows the top's x)")
 
     # Nose.
     for side, (n91, n95, n97, n913) in enumerate((("9.1", "9.5", "9.7", "9.13"),
@@ -317,7 +324,8 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
         s = 1 if side == 0 else -1
         eye_inner = fp["3.11" if side == 0 else "3.8"][0]
         put(n97, skin.front(V[eye_inner, 0] / 2, V[eye_inner, 1]),
-            f"front vertex at x = {'3.11' if side == 0 else '3.8'}.x / 2, same y (side of the nose root)")
+            f"front vertex at x = {'3.11' if side == 0 else '3.8'}.x / 2, same y "
+            "(side of the nose root)")
         # The nose wing (ala): the vertex furthest out in x of those facing sideways between
         # the subnasale and the tip, within 2.5 cm of the midline.
         vs = skin.vertices
@@ -326,10 +334,12 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
                   & (s * skin.normals[vs, 0] > 0.6)]
         put(n91, int(max(wing, key=lambda v: s * V[v, 0])),
             "most lateral sideways-facing vertex of the nose wing (y between 9.15 and 9.3)")
-        put(n95, lm[LM_SIDE["nostril"][side]], f"landmark {LM_SIDE['nostril'][side]} (outer end of the nostril base)")
+        put(n95, lm[LM_SIDE["nostril"][side]],
+            f"landmark {LM_SIDE['nostril'][side]} (outer end of the nostril base)")
         fp[n913] = (None, "")  # placed after 9.12
     bone_y = (V[fp["9.6"][0], 1] + V[tip, 1]) / 2
-    put("9.12", int(face_mid[np.argmin(np.abs(V[face_mid, 1] - bone_y) - 1e3 * (V[face_mid, 2] > V[sub, 2]))]),
+    in_front = V[face_mid, 2] > V[sub, 2]
+    put("9.12", int(face_mid[np.argmin(np.abs(V[face_mid, 1] - bone_y) - 1e3 * in_front)]),
         "midline front vertex at y = (9.6.y + 9.3.y) / 2")
     for n913, n97 in (("9.13", "9.7"), ("9.14", "9.6")):
         put(n913, skin.front(V[fp[n97][0], 0], bone_y, band=2, x_weight=0.25),
@@ -355,7 +365,8 @@ def pick_feature_points(V: np.ndarray, faces: list[np.ndarray], landmarks: list[
     # the ears, and the neck's base.
     ears = np.array([V[fp[n][0]] for n in ("10.7", "10.8", "10.9", "10.10")])
     put("7.1", np.array([0.0, (V[fp["10.7"][0], 1] + V[fp["10.8"][0], 1]) / 2, ears[:, 2].mean()]),
-        "x = 0, y = the lobes' attachment (10.7, 10.8), z = the ears' attachments' mean (the atlas)")
+        "x = 0, y = the lobes' attachment (10.7, 10.8), z = the ears' attachments' mean "
+        "(the atlas)")
     neck = skin.vertices[V[skin.vertices, 1] < V[skin.vertices, 1].min() + 0.5]
     put("7.2", np.array([0.0, V[neck, 1].mean(), V[neck, 2].mean()]),
         "x = 0, the mean y and z of the skin's lowest 5 mm (the neck's cut end)")
@@ -381,33 +392,41 @@ def pick_head_points(V: np.ndarray, skin: Surface, fp: dict[str, Rule], lm: list
                  & (np.abs(V[vs, 1] - V[front_lm, 1] + 1) < 3.5)]
         ear = box[s * V[box, 0] > s * V[front_lm, 0] + 0.6]
         assert len(ear) > 50, "no ear found"
-        put(top, int(ear[np.argmax(V[ear, 1])]), "highest vertex of the ear (skin 6 mm beyond landmark 16 / 0 in x, behind it)")
+        put(top, int(ear[np.argmax(V[ear, 1])]),
+            "highest vertex of the ear (skin 6 mm beyond landmark 16 / 0 in x, behind it)")
         put(lobe, int(ear[np.argmin(V[ear, 1])]), "lowest vertex of the ear")
         mid_y = (V[fp[top][0], 1] + V[fp[lobe][0], 1]) / 2
         band = ear[np.abs(V[ear, 1] - mid_y) < 0.3]
-        put(back, int(band[np.argmin(V[band, 2])]), f"hindmost ear vertex within 3 mm of y = ({top}.y + {lobe}.y) / 2")
+        put(back, int(band[np.argmin(V[band, 2])]),
+            f"hindmost ear vertex within 3 mm of y = ({top}.y + {lobe}.y) / 2")
         # The attachments: the ear's most forward vertices near its upper and lower ends.
         upper = ear[V[ear, 1] > mid_y]
         lower = ear[V[ear, 1] < V[fp[lobe][0], 1] + 1.5]
-        put(up_att, int(upper[np.argmax(V[upper, 2])]), "most forward ear vertex above the ear's mid-height (the helix root)")
-        put(low_att, int(lower[np.argmax(V[lower, 2])]), "most forward ear vertex within 15 mm of its lowest (the lobe's attachment)")
+        put(up_att, int(upper[np.argmax(V[upper, 2])]),
+            "most forward ear vertex above the ear's mid-height (the helix root)")
+        put(low_att, int(lower[np.argmax(V[lower, 2])]),
+            "most forward ear vertex within 15 mm of its lowest (the lobe's attachment)")
         # Jaw corner (gonion): the skin has no edge there; anatomically it lies about 3 cm
         # below and 1 cm in front of the lobe's bottom: the outermost vertex within 5 mm of
         # that point in the side view.
         lobe_p = V[fp[lobe][0]]
-        near = vs[(s * V[vs, 0] > 0) & (np.hypot(V[vs, 1] - lobe_p[1] + 3, V[vs, 2] - lobe_p[2] - 1) < 0.5)]
+        side_view = np.hypot(V[vs, 1] - lobe_p[1] + 3, V[vs, 2] - lobe_p[2] - 1)
+        near = vs[(s * V[vs, 0] > 0) & (side_view < 0.5)]
         put(jaw, int(near[np.argmax(s * V[near, 0])]),
-            f"outermost vertex within 5 mm of ({lobe}.y - 3 cm, {lobe}.z + 1 cm) in the side view (no edge there)")
+            f"outermost vertex within 5 mm of ({lobe}.y - 3 cm, {lobe}.z + 1 cm) in the side "
+            "view (no edge there)")
 
     mid = vs[np.abs(V[vs, 0]) < 1e-6]
     ear_top_z = min(V[fp["10.1"][0], 2], V[fp["10.2"][0], 2])
     crown = mid[V[mid, 2] <= ear_top_z]
     top = int(crown[np.argmax(V[crown, 1])])
-    put("11.4", top, "highest midline vertex not in front of the ears' tops (Table 6: 11.4.z < 10.2.z)")
+    put("11.4", top,
+        "highest midline vertex not in front of the ears' tops (Table 6: 11.4.z < 10.2.z)")
     put("11.5", top, "= 11.4 (a bald scan: no hair thickness)")
     eye_y = V[fp["3.5"][0], 1]
     back = mid[(V[mid, 2] < 0) & (skin.normals[mid, 2] < -0.3)]
-    put("11.6", int(back[np.argmin(np.abs(V[back, 1] - eye_y))]), "back-of-head midline vertex nearest y = 3.5.y")
+    put("11.6", int(back[np.argmin(np.abs(V[back, 1] - eye_y))]),
+        "back-of-head midline vertex nearest y = 3.5.y")
     # Hairline (the scan is bald): by the rule of facial thirds as far above the glabella
     # (taken at the inner brow ends' height) as the glabella is above the nose bottom.
     glabella_y = (V[fp["4.1"][0], 1] + V[fp["4.2"][0], 1]) / 2
@@ -433,14 +452,16 @@ def pick_mouth_parts(V: np.ndarray, faces: list[np.ndarray], fp: dict[str, Rule]
         near = near[V[near, 2] > V[near, 2].max() - 0.3]
         upper = mesh == "teeth_upper"
         crown = near[np.argmin(V[near, 1])] if upper else near[np.argmax(V[near, 1])]
-        put(edge, int(crown), f"{mesh} mesh: the {'lowest' if upper else 'highest'} front vertex within 1 mm of the midline (incisal edge)")
+        put(edge, int(crown), f"{mesh} mesh: the {'lowest' if upper else 'highest'} front "
+            "vertex within 1 mm of the midline (incisal edge)")
         # The crown's other end is the gum line: going from the edge along the front, the
         # first vertex within 1 mm of the gums (the mesh goes on into the gums as the root).
         gums = V[np.unique(np.concatenate(part_faces(faces, "gums_tongue")))]
         for v in near[np.argsort(V[near, 1] if upper else -V[near, 1])]:
             if np.linalg.norm(gums - V[v], axis=1).min() < 0.1:
                 break
-        put(root, int(v), f"{mesh} mesh: from {edge} along the front within 1 mm of the midline, the first vertex within 1 mm of the gums (the gum line)")
+        put(root, int(v), f"{mesh} mesh: from {edge} along the front within 1 mm of the "
+            "midline, the first vertex within 1 mm of the gums (the gum line)")
     gt = np.unique(np.concatenate(part_faces(faces, "gums_tongue")))
     # The tongue: of the gums-and-tongue mesh, the vertices that jawOpen moves (the lower
     # gums and the tongue; the upper gums and palate stay) more than 5 mm behind the lower
@@ -449,11 +470,12 @@ def pick_mouth_parts(V: np.ndarray, faces: list[np.ndarray], fp: dict[str, Rule]
            & (V[gt, 1] > V[fp["9.9"][0], 1] - 0.3)]
     mid = t[np.abs(V[t, 0]) < 1e-6]
     tip = int(mid[np.argmax(V[mid, 2])])
-    put("6.1", tip, "gums_tongue mesh: most forward midline tongue vertex (tongue: moved by jawOpen, "
-        "5 mm behind 9.11, at most 3 mm below 9.9)")
+    put("6.1", tip, "gums_tongue mesh: most forward midline tongue vertex (tongue: moved by "
+        "jawOpen, 5 mm behind 9.11, at most 3 mm below 9.9)")
     top = mid[np.abs(V[mid, 2] - (V[tip, 2] - 2.0)) < 0.5]
     body = int(top[np.argmax(V[top, 1])])
-    put("6.2", body, "gums_tongue mesh: highest midline tongue vertex within 5 mm of 2 cm behind 6.1")
+    put("6.2", body,
+        "gums_tongue mesh: highest midline tongue vertex within 5 mm of 2 cm behind 6.1")
     # The borders: the tongue's widest vertices at 6.2's depth, within 1.5 cm below 6.2
     # and inside the lower teeth's arch there (the gums' inner side is further out).
     lower_teeth = np.unique(np.concatenate(part_faces(faces, "teeth_lower")))
@@ -461,8 +483,9 @@ def pick_mouth_parts(V: np.ndarray, faces: list[np.ndarray], fp: dict[str, Rule]
     inside = 0.85 * np.abs(V[arch, 0]).min()
     ring = t[(np.abs(V[t, 2] - V[body, 2]) < 0.12) & (V[t, 1] > V[body, 1] - 1.5)
              & (np.abs(V[t, 0]) < inside)]
-    put("6.3", int(ring[np.argmax(V[ring, 0])]), "gums_tongue mesh: +x extreme of the tongue within 1.2 mm of "
-        "6.2.z, 1.5 cm below 6.2 and within 85% of the lower teeth's inner half-width there")
+    put("6.3", int(ring[np.argmax(V[ring, 0])]),
+        "gums_tongue mesh: +x extreme of the tongue within 1.2 mm of 6.2.z, 1.5 cm below 6.2 "
+        "and within 85% of the lower teeth's inner half-width there")
     put("6.4", int(ring[np.argmin(V[ring, 0])]), "the same, -x extreme")
 
 
@@ -506,8 +529,9 @@ def build(with_keys: bool = True) -> tuple[mpeg4face.FaceModel, dict[str, Rule]]
     transforms = [mpeg4face.Transform("head", translation=rotation_centre,
                                       meshes=[i for i in range(len(meshes)) if i not in rigid],
                                       children=list(range(1, len(rigid) + 1)))]
-    transforms += [mpeg4face.Transform(meshes[i].name, translation=part_centres[i] - rotation_centre,
-                                       meshes=[i]) for i in rigid]
+    transforms += [mpeg4face.Transform(meshes[i].name, meshes=[i],
+                                       translation=part_centres[i] - rotation_centre)
+                   for i in rigid]
     head = mpeg4face.FaceModel(meshes=meshes, transforms=transforms, roots=[0])
     points = {}
     for name, (where, _) in fp.items():
@@ -515,8 +539,9 @@ def build(with_keys: bool = True) -> tuple[mpeg4face.FaceModel, dict[str, Rule]]
             points[name] = mpeg4face.FeaturePointBinding(position=where * SCALE)
             continue
         owners = [i for i, m in enumerate(meshes) if lookups[m.name][where] >= 0]
-        # A vertex on a seam (none here: parts do not share vertices) would take the first.
-        points[name] = mpeg4face.FeaturePointBinding(owners[0], int(lookups[meshes[owners[0]].name][where]))
+        assert len(owners) == 1, f"{name}: ICT vertex {where} is in {len(owners)} meshes"
+        points[name] = mpeg4face.FeaturePointBinding(
+            owners[0], int(lookups[meshes[owners[0]].name][where]))
     head.feature_points = points
     head.validate()
     if with_keys and hasattr(mpeg4face, "arkit_fap_keys"):

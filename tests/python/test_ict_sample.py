@@ -205,7 +205,8 @@ def fap_keys(head):
         for t in mesh.morph_targets:
             parsed = mpeg4face.parse_shape_key_name(t.name)
             if parsed and 3 <= parsed["fap"] <= 68 and parsed["select"] == 0:
-                out.setdefault(t.name, (parsed, [np.zeros((m.vertex_count, 3)) for m in head.meshes]))
+                zeros = [np.zeros((m.vertex_count, 3)) for m in head.meshes]
+                out.setdefault(t.name, (parsed, zeros))
                 out[t.name][1][i] = t.displacements
     return out
 
