@@ -121,4 +121,10 @@ __all__ = [
     "read_fit_json",
     "fit_table_from_json",
     "fit_preset",
+    # ARKit blendshapes
+    "arkit_shape_names",
+    "arkit_shape_index",
+    "find_arkit_shapes",
+    "map_arkit_to_faps",
+    "arkit_fap_keys",
 ]
