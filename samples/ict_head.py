@@ -554,7 +554,7 @@ def add_fap_keys(head: mpeg4face.FaceModel) -> mpeg4face.FaceModel:
     for warning in made["warnings"]:
         print(f"ict_head: {warning}", file=sys.stderr)
     print(f"ict_head: {len(made['mapping'])} FAP keys from the ARKit shapes; "
-          f"{len(made['missed'])} FAPs or directions no shape expresses (docs/arkit.md)")
+          f"{len(made['missed'])} FAPs or directions missed, each with its reason (docs/arkit.md)")
     return made["head"]
 
 
