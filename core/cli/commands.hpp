@@ -33,6 +33,7 @@ int runClone(const std::vector<std::string>& args);
 int runFit(const std::vector<std::string>& args);
 int runSpeak(const std::vector<std::string>& args);
 int runCheck(const std::vector<std::string>& args);
+int runArkit(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 
