@@ -3,13 +3,13 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <set>
 #include <string>
 
+#include "mpeg4face/arkit.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat_evaluate.hpp"
 #include "mpeg4face/fat_names.hpp"
@@ -23,39 +23,12 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // FAPs a capture's angles give, never fitted to the face area's motion.
 bool isAngleFap(int fap) { return (fap >= 23 && fap <= 26) || (fap >= 48 && fap <= 50); }
 
-std::string normalisedName(std::string_view name) {
-  const std::size_t dot = name.rfind('.');
-  if (dot != std::string_view::npos) name.remove_prefix(dot + 1);
-  std::string lower;
-  for (char c : name) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lower.ends_with("_l")) lower.replace(lower.size() - 2, 2, "left");
-  if (lower.ends_with("_r")) lower.replace(lower.size() - 2, 2, "right");
-  std::erase_if(lower, [](char c) { return c == '_' || c == '-' || c == ' '; });
-  return lower;
-}
-
-// The Live Link weight channel (0..51) a morph target shows, or nullopt. A name that is a
-// channel with Left/Right added is one half of that channel's shape (ICT's browInnerUp_L).
+// The Live Link weight channel (0..51) a morph target shows, or nullopt (ICT's extra shapes
+// too); halves of a shape (ICT's browInnerUp_L) add up to it.
 std::optional<int> arkitChannel(std::string_view targetName) {
-  static const std::vector<std::string> channels = [] {
-    std::vector<std::string> out;
-    for (int k = 0; k < kLiveLinkWeightCount; ++k) {
-      out.push_back(normalisedName(liveLinkChannelNames()[static_cast<std::size_t>(k)]));
-    }
-    return out;
-  }();
-  std::string name = normalisedName(targetName);
-  for (int pass = 0; pass < 2; ++pass) {
-    const auto it = std::find(channels.begin(), channels.end(), name);
-    if (it != channels.end()) return static_cast<int>(it - channels.begin());
-    for (std::string_view side : {"left", "right"}) {
-      if (name.ends_with(side)) {
-        name.resize(name.size() - side.size());
-        break;
-      }
-    }
-  }
-  return std::nullopt;
+  const std::optional<ArkitShapeRef> ref = arkitShapeIndex(targetName);
+  if (!ref || ref->shape >= kArkitShapeCount) return std::nullopt;
+  return ref->shape;
 }
 
 // The FAP's positive direction in the standard's axes (x the face's left, y up, z forward),
