@@ -54,7 +54,9 @@ std::vector<bool> meshesUnderAnimatedTransforms(const MpegFace& face) {
   while (!stack.empty()) {
     const int t = stack.back();
     stack.pop_back();
-    if (t < 0 || static_cast<std::size_t>(t) >= animated.size() || animated[static_cast<std::size_t>(t)]) continue;
+    if (t < 0 || static_cast<std::size_t>(t) >= animated.size() ||
+        animated[static_cast<std::size_t>(t)])
+      continue;
     animated[static_cast<std::size_t>(t)] = true;
     const Transform& node = model.transforms[static_cast<std::size_t>(t)];
     for (int m : node.meshes) meshes[static_cast<std::size_t>(m)] = true;
@@ -133,9 +135,11 @@ void boundedLeastSquares(const Eigen::MatrixXd& G, const Eigen::VectorXd& b,
         // b_F - G_FB x_B: the bound variables' pull on the free ones.
         rhs[r] = b[i];
         for (Eigen::Index j = 0; j < n; ++j) {
-          if (state[static_cast<std::size_t>(j)] != State::Free && x[j] != 0) rhs[r] -= G(i, j) * x[j];
+          if (state[static_cast<std::size_t>(j)] != State::Free && x[j] != 0)
+            rhs[r] -= G(i, j) * x[j];
         }
-        for (Eigen::Index c = 0; c < f; ++c) subGram(r, c) = G(i, free[static_cast<std::size_t>(c)]);
+        for (Eigen::Index c = 0; c < f; ++c)
+          subGram(r, c) = G(i, free[static_cast<std::size_t>(c)]);
       }
       cholesky.compute(subGram);
       z = cholesky.solve(rhs);
@@ -210,7 +214,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
       if (!k) continue;
       out.hasShape[static_cast<std::size_t>(*k)] = true;
       for (Eigen::Index v = 0; v < t.displacements.rows(); ++v) {
-        if (t.displacements.row(v).squaredNorm() > 0) addVertex(static_cast<int>(m), static_cast<int>(v));
+        if (t.displacements.row(v).squaredNorm() > 0)
+          addVertex(static_cast<int>(m), static_cast<int>(v));
       }
     }
   }
@@ -229,7 +234,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
     throw Error({}, 0, "morph targets",
                 "the face has no ARKit blendshape (on a mesh no Transform animates); looked for "
                 "morph targets named as ARKit's (eyeBlinkLeft, EyeBlinkLeft, eyeBlink_L, "
-                "blendShape1.eyeBlinkLeft, eye_blink_left): " + looked);
+                "blendShape1.eyeBlinkLeft, eye_blink_left): " +
+                    looked);
   }
   if (!missing.empty()) {
     out.warnings.push_back("the face lacks " + std::to_string(kLiveLinkWeightCount - found) +
@@ -289,8 +295,7 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
       for (Eigen::Index v = 0; v < t.displacements.rows(); ++v) {
         const int row = areaRow[m][static_cast<std::size_t>(v)];
         if (row >= 0) {
-          out.shapeMotion.block<3, 1>(3 * row, *k) +=
-              linear * t.displacements.row(v).transpose();
+          out.shapeMotion.block<3, 1>(3 * row, *k) += linear * t.displacements.row(v).transpose();
         }
       }
     }
@@ -324,7 +329,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
       }
     }
     out.fapMotion.resize(rows, static_cast<Eigen::Index>(columns.size()));
-    for (std::size_t c = 0; c < columns.size(); ++c) out.fapMotion.col(static_cast<Eigen::Index>(c)) = columns[c];
+    for (std::size_t c = 0; c < columns.size(); ++c)
+      out.fapMotion.col(static_cast<Eigen::Index>(c)) = columns[c];
   } else {
     std::size_t count = 0;
     for (const DefinitionColumn& d : definition) count += fapInfo(d.fap).bidirectional ? 2 : 1;
@@ -387,7 +393,9 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
   int source = 0;  // the capture frame at or before the output frame's time
   for (int f = 0; f < frames; ++f) {
     const double time = start + f / options.fps;
-    while (source + 1 < capture.frameCount() && capture.times[static_cast<std::size_t>(source + 1)] <= time) ++source;
+    while (source + 1 < capture.frameCount() &&
+           capture.times[static_cast<std::size_t>(source + 1)] <= time)
+      ++source;
     const int next = std::min(source + 1, capture.frameCount() - 1);
     const double t0 = capture.times[static_cast<std::size_t>(source)];
     const double t1 = capture.times[static_cast<std::size_t>(next)];
