@@ -129,4 +129,13 @@ __all__ = [
     "find_arkit_shapes",
     "map_arkit_to_faps",
     "arkit_fap_keys",
+    # face captures (Live Link Face, ARKit weights)
+    "livelink_channel_names",
+    "LiveLinkCapture",
+    "read_livelink_csv",
+    "write_livelink_csv",
+    "ArkitCaptureFace",
+    "prepare_arkit_capture_face",
+    "arkit_capture_to_faps",
+    "faps_to_arkit",
 ]
