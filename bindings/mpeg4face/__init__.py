@@ -130,4 +130,10 @@ __all__ = [
     "prepare_arkit_capture_face",
     "arkit_capture_to_faps",
     "faps_to_arkit",
+    # ARKit blendshapes
+    "arkit_shape_names",
+    "arkit_shape_index",
+    "find_arkit_shapes",
+    "map_arkit_to_faps",
+    "arkit_fap_keys",
 ]

@@ -119,6 +119,19 @@ constexpr std::array kCommands{
             "  --voice V       flite's voice: kal, kal16, awb, rms, slt\n"
             "  --transition S  the longest viseme transition, seconds (default 0.08)\n",
             mpeg4face::cli::runSpeak},
+    Command{"arkit", "ARKit heads in MPEG-4: FAP, viseme and expression keys from ARKit shapes",
+            "mpeg4face arkit keys HEAD.glb|.gltf [--feature-points CSV] [--no-visemes]\n"
+            "                     [--no-expressions] -o OUT.glb|.gltf\n"
+            "  HEAD's morph targets named as ARKit's 52 blendshapes (eyeBlinkLeft, eyeBlink_L,\n"
+            "  EyeBlinkLeft, blendShape1.eyeBlinkLeft ...; some of them will do) become FAP\n"
+            "  keys fap<N>_<name>@<value> (the shapes' non-negative combination measured on\n"
+            "  the head, both signs where they exist; eyeball turns as poses of the eyes'\n"
+            "  Transforms), and viseme and expression keys made from them with the FIT\n"
+            "  presets; keys already named so are replaced. Prints the FAPs made and missed.\n"
+            "  OUT is ready for 'mpeg4face fat generate'. docs/arkit.md\n"
+            "  --feature-points CSV  bind feature points (needed for the FAPU), as info\n"
+            "  --no-visemes, --no-expressions  leave those keys out\n",
+            mpeg4face::cli::runArkit},
 };
 
 void printHelp(std::FILE* out) {
