@@ -121,6 +121,12 @@ __all__ = [
     "read_fit_json",
     "fit_table_from_json",
     "fit_preset",
+    # ARKit blendshapes
+    "arkit_shape_names",
+    "arkit_shape_index",
+    "find_arkit_shapes",
+    "map_arkit_to_faps",
+    "arkit_fap_keys",
     # face captures (Live Link Face, ARKit weights)
     "livelink_channel_names",
     "LiveLinkCapture",
@@ -130,10 +136,4 @@ __all__ = [
     "prepare_arkit_capture_face",
     "arkit_capture_to_faps",
     "faps_to_arkit",
-    # ARKit blendshapes
-    "arkit_shape_names",
-    "arkit_shape_index",
-    "find_arkit_shapes",
-    "map_arkit_to_faps",
-    "arkit_fap_keys",
 ]

@@ -82,6 +82,6 @@ PYBIND11_MODULE(_core, m) {
   python::bindFapu(m);
   python::bindStream(m);
   python::bindFace(m);
-  python::bindCapture(m);
   python::bindArkit(m);
+  python::bindCapture(m);
 }
