@@ -37,14 +37,14 @@ def register() -> None:
         preferences.register()
         if status.ok:
             from . import (
-                export, import_stream, operators, operators_faces, operators_stream, panels,
-                panels_faces, panels_stream, properties,
+                export, import_stream, operators, operators_arkit, operators_faces,
+                operators_stream, panels, panels_faces, panels_stream, properties,
             )
             from . import operators_check
 
-            for module in (properties, operators, panels, operators_faces, panels_faces,
-                           export, operators_stream, import_stream, panels_stream,
-                           operators_check):
+            for module in (properties, operators, panels, operators_faces, operators_arkit,
+                           panels_faces, export, operators_stream, import_stream,
+                           panels_stream, operators_check):
                 module.register()
                 _registered.append(module)
     except Exception as error:  # noqa: BLE001 - e.g. a module too old for this add-on

@@ -1,23 +1,21 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""File > Import > FAP stream (.fap, .fba): a stream onto the active head mesh, baked into
-shape-key animation or played live through the face's tables."""
+"""File > Import > FAP stream (.fap, .fba) and Live Link Face capture (.csv): a stream, or a
+capture converted to one by the core, onto the active head mesh, baked into shape-key
+animation or played live through the face's tables."""
 
 import bpy
-from bpy.props import EnumProperty, IntProperty, StringProperty
+from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
-from . import operators_stream, stream_logic
+import mpeg4face
+
+from . import arkit_logic, mesh_data, operators_faces, operators_stream, shape_keys, stream_logic
 
 
-class MPEG4FACE_OT_import_fap_stream(bpy.types.Operator, ImportHelper):
-    """Import an MPEG-4 FAP stream (.fap text or .fba bitstream) onto the active mesh, whose
-    shape keys are named fap<N>[_<label>]@<value>, viseme<N>, expression<N>[@<intensity>]"""
+class _StreamImport(ImportHelper):
+    """What the imports share: the options saying how a stream shows on the active head
+    (frame rate, resampling, start frame, bake or live) and the showing."""
 
-    bl_idname = "mpeg4face.import_fap_stream"
-    bl_label = "Import FAP Stream"
-    bl_options = {"REGISTER", "UNDO"}
-
-    filter_glob: StringProperty(default="*.fap;*.fba", options={"HIDDEN"})
     frame_rate: EnumProperty(
         name="Frame rate",
         items=(
@@ -29,10 +27,6 @@ class MPEG4FACE_OT_import_fap_stream(bpy.types.Operator, ImportHelper):
     resample: EnumProperty(name="Resample", items=operators_stream.RESAMPLE_ITEMS,
                            default="HOLD")
     start_frame: IntProperty(name="Start frame", default=1)
-    fit_path: StringProperty(
-        name="FIT", subtype="FILE_PATH",
-        description="A FAP Interpolation Table (.json) that fills in unsent FAPs before "
-        "baking; empty for none")
     preview: EnumProperty(
         name="Preview",
         items=(
@@ -44,13 +38,57 @@ class MPEG4FACE_OT_import_fap_stream(bpy.types.Operator, ImportHelper):
         default="BAKE",
     )
 
+    def draw_frames(self, layout: bpy.types.UILayout, resampled: bool = True) -> None:
+        layout.prop(self, "frame_rate")
+        if resampled:
+            row = layout.row()
+            row.enabled = self.frame_rate == "SCENE"
+            row.prop(self, "resample")
+        layout.prop(self, "start_frame")
+
+    def show(self, context: bpy.types.Context, obj: bpy.types.Object,
+             keys: stream_logic.FaceKeys, stream: mpeg4face.FapStream, path: str,
+             fit_path: str = "") -> set[str]:
+        """Bakes the stream onto the head or plays it live, from the start frame, at the
+        stream's or the scene's rate; the object remembers `path` (a .fap or .fba) for the
+        live preview and the encoder. On failure the scene's frame rate is as it was."""
+        scene = context.scene
+        rate = scene.render.fps, scene.render.fps_base
+        if self.frame_rate == "STREAM":
+            operators_stream.set_scene_rate(scene, stream.frame_rate)
+        operators_stream.stop_live(obj)
+        if self.preview == "LIVE":
+            result = operators_stream.run_live(self, context, obj, keys, stream, self.start_frame)
+        else:
+            operators_stream.bake_stream(self, context, obj, keys, stream, self.start_frame,
+                                         self.resample)
+            result = {"FINISHED"}
+        if result != {"FINISHED"}:
+            scene.render.fps, scene.render.fps_base = rate
+            return result
+        frames = stream_logic.scene_frame_count(stream.duration,
+                                                operators_stream.scene_rate(scene))
+        operators_stream.remember_stream(obj, path, fit_path, self.start_frame, frames)
+        return result
+
+
+class MPEG4FACE_OT_import_fap_stream(_StreamImport, bpy.types.Operator):
+    """Import an MPEG-4 FAP stream (.fap text or .fba bitstream) onto the active mesh, whose
+    shape keys are named fap<N>[_<label>]@<value>, viseme<N>, expression<N>[@<intensity>]"""
+
+    bl_idname = "mpeg4face.import_fap_stream"
+    bl_label = "Import FAP Stream"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filter_glob: StringProperty(default="*.fap;*.fba", options={"HIDDEN"})
+    fit_path: StringProperty(
+        name="FIT", subtype="FILE_PATH",
+        description="A FAP Interpolation Table (.json) that fills in unsent FAPs before "
+        "baking; empty for none")
+
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
-        layout.prop(self, "frame_rate")
-        row = layout.row()
-        row.enabled = self.frame_rate == "SCENE"
-        row.prop(self, "resample")
-        layout.prop(self, "start_frame")
+        self.draw_frames(layout)
         layout.prop(self, "fit_path")
         layout.prop(self, "preview", expand=True)
 
@@ -62,33 +100,106 @@ class MPEG4FACE_OT_import_fap_stream(bpy.types.Operator, ImportHelper):
         stream = operators_stream.read_stream(self, self.filepath, self.fit_path)
         if stream is None:
             return {"CANCELLED"}
+        return self.show(context, obj, keys, stream, self.filepath, self.fit_path)
+
+
+class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
+    """Import a Live Link Face capture (.csv of ARKit weights) onto the active mesh as a FAP
+    stream: the weights converted to FAPs through an ARKit face (the head itself when it has
+    ARKit shape keys, else the ARKit face file), then baked or played like a .fap"""
+
+    bl_idname = "mpeg4face.import_livelink_capture"
+    bl_label = "Import Live Link Face Capture"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filter_glob: StringProperty(default="*.csv", options={"HIDDEN"})
+    face_path: StringProperty(
+        name="ARKit face", subtype="FILE_PATH",
+        description="A head with ARKit blendshapes as morph targets and MPEG-4 feature points "
+        "(.glb, e.g. samples/build/ict_head.glb) that converts the weights when the active "
+        "head has no ARKit shape keys")
+    fps: FloatProperty(
+        name="FAP rate", default=25.0, min=1.0, max=240.0,
+        description="The FAP stream's frame rate when the scene takes the stream's (with "
+        "Scene's the capture is converted at the scene's rate)")
+    folder: StringProperty(
+        name="Stream folder", subtype="DIR_PATH", default="//captures",
+        description="Where the converted stream (.fap) goes, for the live preview and the "
+        "encoder (// is the .blend's folder; a temporary folder while the file is unsaved)")
+
+    def draw(self, context: bpy.types.Context) -> None:
+        layout = self.layout
+        layout.prop(self, "face_path")
+        self.draw_frames(layout, resampled=False)  # converted at the rate shown
+        row = layout.row()
+        row.enabled = self.frame_rate == "STREAM"
+        row.prop(self, "fps")
+        layout.prop(self, "preview", expand=True)
+        layout.prop(self, "folder")
+
+    def arkit_face(self, obj: bpy.types.Object) -> mpeg4face.FaceModel:
+        """The face whose ARKit shapes convert the weights: the head itself (its ARKit and
+        grammar keys, which give the best fit) when it has ARKit shape keys, else the face
+        file; ValueError when neither."""
+        names = operators_faces.key_names(obj)
+        arkit = arkit_logic.arkit_key_names(names)
+        if arkit:
+            grammar = [n for n in names if shape_keys.is_grammar_name(n)]
+            return mesh_data.face_model(obj, arkit + grammar)[0]
+        if not self.face_path:
+            raise ValueError(
+                f"{obj.name} has no ARKit shape keys (eyeBlinkLeft, jawOpen, ...): give an "
+                "ARKit face (.glb with ARKit morph targets and feature points, e.g. "
+                "samples/build/ict_head.glb) to convert the capture's weights")
+        return mpeg4face.read_gltf(bpy.path.abspath(self.face_path))
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        obj = context.active_object
+        if obj is not None and obj.type == "MESH" and not operators_stream.grammar_keys(
+                obj).keys and arkit_logic.arkit_key_names(operators_faces.key_names(obj)):
+            self.report({"ERROR"}, f"{obj.name} has ARKit shape keys but no FAP keys to show "
+                        "the stream with: run FAP Keys from ARKit Keys first")
+            return {"CANCELLED"}
+        found = operators_stream.stream_mesh(self, context)
+        if found is None:
+            return {"CANCELLED"}
+        obj, keys = found
         scene = context.scene
-        if self.frame_rate == "STREAM":
-            operators_stream.set_scene_rate(scene, stream.frame_rate)
-        operators_stream.stop_live(obj)
-        if self.preview == "LIVE":
-            result = operators_stream.run_live(self, context, obj, keys, stream, self.start_frame)
-        else:
-            operators_stream.bake_stream(self, context, obj, keys, stream, self.start_frame,
-                                         self.resample)
-            result = {"FINISHED"}
-        if result == {"FINISHED"}:
-            frames = stream_logic.scene_frame_count(stream.duration,
-                                                    operators_stream.scene_rate(scene))
-            operators_stream.remember_stream(obj, self.filepath, self.fit_path,
-                                             self.start_frame, frames)
-        return result
+        fps = self.fps if self.frame_rate == "STREAM" else operators_stream.scene_rate(scene)
+        # Everything that can fail comes before any change of the scene.
+        try:
+            capture = mpeg4face.read_livelink_csv(bpy.path.abspath(self.filepath))
+            stream = mpeg4face.arkit_capture_to_faps(capture, self.arkit_face(obj), fps)
+            folder = operators_stream.output_folder(self.folder, "mpeg4face-captures")
+            folder.mkdir(parents=True, exist_ok=True)
+            path = arkit_logic.capture_stream_path(folder, obj.name, self.filepath)
+            mpeg4face.write_fap(stream, str(path))
+        except operators_stream.INPUT_ERRORS as error:
+            self.report({"ERROR"}, f"Cannot convert the capture: {error}")
+            return {"CANCELLED"}
+        for warning in capture.warnings:
+            self.report({"WARNING"}, warning)
+        self.report({"INFO"}, f"{len(capture)} capture frames at {capture.frame_rate:g} fps "
+                    f"-> {len(stream)} FAP frames at {fps:g} fps in {path}")
+        return self.show(context, obj, keys, stream, str(path))
 
 
 def menu_entry(menu: bpy.types.Menu, context: bpy.types.Context) -> None:
     menu.layout.operator(MPEG4FACE_OT_import_fap_stream.bl_idname, text="FAP stream (.fap, .fba)")
+    menu.layout.operator(MPEG4FACE_OT_import_livelink_capture.bl_idname,
+                         text="Live Link Face capture (.csv)")
+
+
+_classes = (MPEG4FACE_OT_import_fap_stream, MPEG4FACE_OT_import_livelink_capture)
 
 
 def register() -> None:
-    bpy.utils.register_class(MPEG4FACE_OT_import_fap_stream)
+    for cls in _classes:
+        bpy.utils.register_class(cls)
     bpy.types.TOPBAR_MT_file_import.append(menu_entry)
 
 
 def unregister() -> None:
     bpy.types.TOPBAR_MT_file_import.remove(menu_entry)
-    bpy.utils.unregister_class(MPEG4FACE_OT_import_fap_stream)
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)

@@ -66,6 +66,27 @@ def set_slider_range(key: bpy.types.ShapeKey) -> None:
     key.slider_min = low
 
 
+def write_keys(obj: bpy.types.Object, displacements: dict[str, np.ndarray]) -> int:
+    """Grammar keys from displacements (Blender's axes) from the Basis: a key of that name
+    is overwritten in place, keeping its drivers and animation, its slider range widened to
+    the grammar's (never narrowed: a bake may have widened it); the others are added.
+    Returns how many were replaced."""
+    basis = basis_coords(obj)
+    replaced = 0
+    for name, displacement in displacements.items():
+        keys = obj.data.shape_keys
+        existing = keys.key_blocks.get(name) if keys is not None else None
+        if existing is None:
+            add_key(obj, name, basis + displacement)
+            continue
+        mesh_data.set_shape_key_coords(existing, basis + displacement)
+        low, high = shape_keys.slider_range(name)
+        existing.slider_max = max(existing.slider_max, high)
+        existing.slider_min = min(existing.slider_min, low)
+        replaced += 1
+    return replaced
+
+
 def key_names(obj: bpy.types.Object) -> list[str]:
     """Every shape key of the object but the Basis."""
     keys = obj.data.shape_keys
@@ -426,17 +447,7 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
     def report_target(self, target: bpy.types.Object, cloned: dict) -> None:
         """Writes the cloned keys: a key of the same (grammar) name is overwritten in place,
         keeping its drivers and animation; every other key stays."""
-        basis = basis_coords(target)
-        replaced = 0
-        for name, displacement in shape_keys.cloned_shapes(cloned["copies"]).items():
-            keys = target.data.shape_keys
-            existing = keys.key_blocks.get(name) if keys is not None else None
-            if existing is not None:
-                mesh_data.set_shape_key_coords(existing, basis + displacement)
-                set_slider_range(existing)
-                replaced += 1
-            else:
-                add_key(target, name, basis + displacement)
+        replaced = write_keys(target, shape_keys.cloned_shapes(cloned["copies"]))
         for warning in cloned["warnings"]:
             self.report({"WARNING"}, f"{target.name}: {warning}")
         self.report({"INFO"}, f"{target.name}: {len(cloned['copies'])} shape keys cloned "

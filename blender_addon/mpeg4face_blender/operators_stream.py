@@ -452,11 +452,11 @@ VOICES = tuple((v, v, f"flite's voice {v}") for v in ("kal", "slt", "awb", "rms"
 DEFAULT_SPEECH_FOLDER = "//speech"
 
 
-def speech_folder(folder: str) -> Path:
-    """The folder for the audio: relative to the .blend ("//"), or the temporary folder's
-    mpeg4face-speech while the file has never been saved."""
+def output_folder(folder: str, temporary: str) -> Path:
+    """A folder for files the add-on writes (speech, converted captures): relative to the
+    .blend ("//"), or <temp>/`temporary` while the file has never been saved."""
     if folder.startswith("//") and not bpy.data.filepath:
-        return Path(tempfile.gettempdir()) / "mpeg4face-speech"
+        return Path(tempfile.gettempdir()) / temporary
     return Path(bpy.path.abspath(folder))
 
 
@@ -505,7 +505,7 @@ class MPEG4FACE_OT_speak_text(bpy.types.Operator):
             return {"CANCELLED"}
         scene = context.scene
         fps = scene_rate(scene)
-        folder = speech_folder(self.folder)
+        folder = output_folder(self.folder, "mpeg4face-speech")
         # Named by what is said, so the same text, voice and rate reuse one file name.
         digest = hashlib.sha1(f"{self.text}|{self.voice}|{fps}".encode()).hexdigest()[:10]
         base = folder / f"{bpy.path.clean_name(obj.name)}-{digest}"

@@ -4,7 +4,7 @@ keys, the last "Generate FaceDefTables" report, and cloning."""
 
 import bpy
 
-from . import operators_faces, shape_keys
+from . import operators_arkit, operators_faces, shape_keys
 from .panels import _Sidebar
 
 
@@ -31,6 +31,10 @@ class MPEG4FACE_PT_shape_keys(_Sidebar, bpy.types.Panel):
             col.operator("mpeg4face.add_fap_shape_key", text=text).kind = kind
         col.operator("mpeg4face.map_shape_keys", icon="SHAPEKEY_DATA")
         col.operator("mpeg4face.mirror_shape_key", icon="MOD_MIRROR")
+        col.operator("mpeg4face.arkit_fap_keys", icon="SHAPEKEY_DATA")
+        report = operators_arkit.reports.get(obj.name)
+        if report is not None:
+            layout.label(text=report.summary(), icon="INFO")
 
 
 class MPEG4FACE_PT_face_tables(_Sidebar, bpy.types.Panel):

@@ -23,6 +23,8 @@ class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
                      icon="CHECKMARK" if count else "ERROR")
         col = layout.column(align=True)
         col.operator("mpeg4face.import_fap_stream", text="Import FAP Stream...", icon="IMPORT")
+        col.operator("mpeg4face.import_livelink_capture", text="Import Capture (.csv)...",
+                     icon="IMPORT")
         col.operator("mpeg4face.speak_text", icon="SPEAKER")
 
         state = obj.mpeg4face_stream

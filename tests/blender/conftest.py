@@ -75,3 +75,24 @@ def group_members(obj, name):
         return None
     return [(v.index, g.weight) for v in obj.data.vertices for g in v.groups
             if g.group == group.index]
+
+
+# A few ARKit blendshapes on CANDIDE-3 in three spellings (standard axes: Y up, +X the
+# face's left): jawOpen drops everything below the mouth and the inner lower lip,
+# eyeBlink_L closes the left upper lid onto the lower, MouthSmileLeft raises the left lip
+# corner outwards. Pure numpy, shared with tests/python/test_blender_arkit_logic.py.
+ARKIT_KEYS = ("jawOpen", "eyeBlink_L", "MouthSmileLeft")
+
+
+def candide_arkit_shapes(coords, fp_vertices):
+    """ARKit key name -> (N, 3) displacements (standard axes) on CANDIDE-3."""
+    import numpy as np
+
+    coords = np.asarray(coords, dtype=np.float64)
+    shapes = {name: np.zeros_like(coords) for name in ARKIT_KEYS}
+    below = coords[:, 1] < coords[fp_vertices["8.3"], 1] - 0.01
+    shapes["jawOpen"][below] = (0.0, -0.1, 0.0)
+    shapes["jawOpen"][fp_vertices["2.3"]] = (0.0, -0.1, 0.0)
+    shapes["eyeBlink_L"][fp_vertices["3.1"]] = (0.0, -0.08, 0.0)
+    shapes["MouthSmileLeft"][fp_vertices["8.3"]] = (0.03, 0.05, 0.0)
+    return shapes

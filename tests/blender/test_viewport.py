@@ -2,8 +2,8 @@
 """The real viewport under Xvfb (viewport/screenshots.py in a Blender of its own): a stream
 previewed on CANDIDE-3 changes the mouth region of the screenshots between the neutral
 frame and the open_jaw frame, and leaves the forehead as it was; two screenshots of the whole
-window show every panel of the add-on's sidebar tab, and two the export's and the import's
-file browser with their options (the export's sub-panels must have drawn). The screenshots are kept
+window show every panel of the add-on's sidebar tab, and three the export's and the two
+imports' (FAP stream, Live Link Face capture) file browsers with their options (the export's sub-panels must have drawn). The screenshots are kept
 in $MPEG4FACE_SCREENSHOTS when it is set (scripts/test.sh: build/screenshots; the user
 guide's pictures in docs/images come from there). Run through run_in_blender.py."""
 
@@ -37,5 +37,6 @@ def test_previewed_stream_moves_the_mouth_in_the_viewport(tmp_path):
     # The export's file browser drew its options sub-panels.
     assert result["export_panels"] == ["FaceDefTables", "Head"], result
     for name in ("viewport_neutral.png", "viewport_open_jaw.png", "blender_sidebar.png",
-                 "blender_sidebar_keys.png", "blender_export.png", "blender_import.png"):
+                 "blender_sidebar_keys.png", "blender_export.png", "blender_import.png",
+                 "blender_import_capture.png"):
         assert (out / name).stat().st_size > 10_000, name

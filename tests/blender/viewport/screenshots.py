@@ -260,6 +260,9 @@ def steps():
         (export.MPEG4FACE_PT_export_head, export.MPEG4FACE_PT_export_tables))
     yield from file_browser_screenshot(bpy.ops.mpeg4face.import_fap_stream, "blender_import.png",
                                        DATA / "xface-fap" / "joy.fap")
+    yield from file_browser_screenshot(
+        bpy.ops.mpeg4face.import_livelink_capture, "blender_import_capture.png",
+        DATA / "livelink-face" / "MySlate_3_Jason_Millers_iPhone.csv")
     a, b = pixels(neutral), pixels(opened)
     result = {
         "neutral_frame": neutral_frame,
