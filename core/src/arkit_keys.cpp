@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // A head's FAP, viseme and expression keys made from its ARKit shapes. docs/arkit.md.
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
+#include <optional>
+#include <set>
 
 #include "mpeg4face/arkit.hpp"
 #include "mpeg4face/error.hpp"
@@ -79,10 +83,73 @@ TransformChannel rotationChannel(int transform, const Eigen::Quaterniond& q) {
   return poseChannel(transform, TransformChannel::Path::Rotation, {q.x(), q.y(), q.z(), q.w()});
 }
 
+// The FAPs of an area of the skin that several FAPs share (the lips, chin, cheeks, brows and
+// nose): ARKit shapes move a whole lip or brow, so the key of FAP 10 (2.8) made from them
+// moves the whole lower lip, and a viseme that sends 5, 10, 11, 52, 57 and 58 together
+// would lower it six times over. Their keys are localised instead (docs/arkit.md).
+bool isAreaFap(int fap) {
+  return (fap >= 4 && fap <= 13) || (fap >= 16 && fap <= 18) || (fap >= 31 && fap <= 42) ||
+         (fap >= 51 && fap <= 64);
+}
+
+// Shepard's partition of unity over the area FAPs' feature points on a mesh: a point's share
+// at each vertex, 1 at its own vertex and 0 at every other such point's,
+// inverse-square distance weighted between. The shares of all the mesh's points add to 1,
+// so the localised keys of neighbouring FAPs sent at one value move the area as the shapes
+// do, and each key leaves every other feature point where it was.
+class FeaturePointShares {
+ public:
+  FeaturePointShares(const FaceModel& head, int mesh) : mesh_(mesh) {
+    const IndexedFaceSet& m = head.meshes[static_cast<std::size_t>(mesh)];
+    std::set<std::string, std::less<>> areaPoints;
+    for (const FapInfo& fap : fapTable()) {
+      if (isAreaFap(fap.number)) areaPoints.emplace(fap.featurePoint);
+    }
+    for (const auto& [id, binding] : head.featurePoints) {
+      if (!areaPoints.contains(id) || binding.mesh != mesh || binding.vertex < 0 ||
+          binding.vertex >= m.vertexCount()) {
+        continue;
+      }
+      index_[id] = static_cast<int>(points_.size());
+      points_.push_back(m.coord.row(binding.vertex));
+    }
+    total_.resize(m.vertexCount());
+    for (int v = 0; v < m.vertexCount(); ++v) {
+      double sum = 0;
+      for (std::size_t p = 0; p < points_.size(); ++p) sum += weight(m.coord.row(v), p);
+      total_[static_cast<std::size_t>(v)] = sum;
+    }
+  }
+  int mesh() const { return mesh_; }
+  // Multiplies each row of `d` (this mesh's displacements) by the point's share.
+  void localise(const std::string& id, const IndexedFaceSet& m, Points3& d) const {
+    const auto it = index_.find(id);
+    if (it == index_.end()) return;
+    const std::size_t p = static_cast<std::size_t>(it->second);
+    for (int v = 0; v < m.vertexCount(); ++v) {
+      if (d.row(v).isZero()) continue;
+      const double w = weight(m.coord.row(v), p);
+      const double total = total_[static_cast<std::size_t>(v)];
+      // At a feature point's own vertex the weights are infinite: all of it, or none.
+      d.row(v) *= std::isinf(w) ? 1.0 : std::isinf(total) ? 0.0 : w / total;
+    }
+  }
+
+ private:
+  double weight(const Eigen::RowVector3d& x, std::size_t p) const {
+    const double d2 = (x - points_[p]).squaredNorm();
+    return d2 == 0 ? std::numeric_limits<double>::infinity() : 1.0 / d2;
+  }
+  int mesh_;
+  std::map<std::string, int> index_;
+  std::vector<Eigen::RowVector3d> points_;
+  std::vector<double> total_;
+};
+
 // viseme1..14 and expression1..6: each alone from the neutral face, with the FAPs the FIT
 // preset gives it (its own frame: nothing held from another), as keys and poses.
-void addHighLevelKeys(ArkitKeys& out, const ArkitKeysOptions& options) {
-  const ShapeKeyFace generated = faceFromShapeKeys(out.head);
+void addHighLevelKeys(ArkitKeys& out, const FaceModel& localised, const ArkitKeysOptions& options) {
+  const ShapeKeyFace generated = faceFromShapeKeys(localised);
   for (const std::string& w : generated.warnings) out.warnings.push_back("tables: " + w);
   const FatEvaluator evaluator(generated.face, measureFapu(generated.face.faceSceneGraph));
   const FatState neutral = evaluator.neutralState();
@@ -171,7 +238,9 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
   out.mapping = mapArkitToFaps(out.head, out.shapes, fapu);
 
   std::vector<std::vector<MorphTarget>> added(out.head.meshes.size());
+  std::vector<std::vector<MorphTarget>> localisedAdded(out.head.meshes.size());
   std::vector<MorphWeightAnimation> poses;
+  std::optional<FeaturePointShares> shares;  // of the mesh the last area FAP's point is on
   for (const ArkitFapKey& key : out.mapping.keys) {
     const std::string name =
         formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)});
@@ -190,11 +259,32 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
         it->second += weight * mesh.morphTargets[static_cast<std::size_t>(t.target)].displacements;
       }
     }
-    for (auto& [m, d] : meshes) added[static_cast<std::size_t>(m)].push_back({name, std::move(d)});
+    std::map<int, Points3> area;  // the same key localised, for the viseme and expression keys
+    if (isAreaFap(key.fap)) {
+      const std::string point(fapInfo(key.fap).featurePoint);
+      const auto binding = out.head.featurePoints.find(point);
+      const auto found = binding == out.head.featurePoints.end()
+                             ? meshes.end()
+                             : meshes.find(binding->second.mesh);
+      if (found != meshes.end()) {
+        if (!shares || shares->mesh() != found->first) shares.emplace(out.head, found->first);
+        Points3 d = found->second;
+        shares->localise(point, out.head.meshes[static_cast<std::size_t>(found->first)], d);
+        area.emplace(found->first, std::move(d));
+      }
+    }
+    for (auto& [m, d] : meshes) {
+      const auto it = area.find(m);
+      localisedAdded[static_cast<std::size_t>(m)].push_back(
+          {name, it == area.end() ? d : std::move(it->second)});
+      added[static_cast<std::size_t>(m)].push_back({name, std::move(d)});
+    }
   }
+  FaceModel localised = out.head;
+  setKeys(localised, std::move(localisedAdded), poses, false);
   setKeys(out.head, std::move(added), std::move(poses), false);
   if ((options.visemes || options.expressions) && !out.mapping.keys.empty()) {
-    addHighLevelKeys(out, options);
+    addHighLevelKeys(out, localised, options);
   }
   return out;
 }

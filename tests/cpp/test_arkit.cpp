@@ -302,6 +302,28 @@ TEST(Arkit, VisemeKeysAreEachAloneFromTheNeutral) {
     if (k && k->fapID >= 3)
       keyed[{k->fapID, k->amplitude > 0}] = {k->amplitude, t.displacements(chin, 1)};
   }
+  // The viseme keys are made from the area FAPs' keys localised by Shepard's inverse-square
+  // shares over the area FAPs' feature points (docs/arkit.md): the chin's share of each.
+  const auto isArea = [](int f) {
+    return (f >= 4 && f <= 13) || (f >= 16 && f <= 18) || (f >= 31 && f <= 42) ||
+           (f >= 51 && f <= 64);
+  };
+  const Eigen::RowVector3d chinAt = keys.head.meshes[0].coord.row(chin);
+  std::map<std::string, double> inverseSquare;
+  double total = 0;
+  for (int f = 3; f <= kFapCount; ++f) {
+    const std::string id(fapInfo(f).featurePoint);
+    const auto b = keys.head.featurePoints.find(id);
+    if (!isArea(f) || b == keys.head.featurePoints.end() || b->second.mesh != 0 ||
+        inverseSquare.contains(id)) {
+      continue;
+    }
+    inverseSquare[id] = 1 / (keys.head.meshes[0].coord.row(b->second.vertex) - chinAt).squaredNorm();
+    total += inverseSquare[id];
+  }
+  const auto share = [&](int f) {
+    return isArea(f) ? inverseSquare.at(std::string(fapInfo(f).featurePoint)) / total : 1.0;
+  };
   const FitTable fit = visemeFitTable();
   int moving = 0;
   for (int v = 1; v <= 14; ++v) {
@@ -321,7 +343,7 @@ TEST(Arkit, VisemeKeysAreEachAloneFromTheNeutral) {
       const auto it = keyed.find({f, state.value(f) > 0});
       if (it == keyed.end()) continue;
       const auto [amplitude, motion] = it->second;
-      expected += std::min(1.0, static_cast<double>(state.value(f)) / amplitude) * motion;
+      expected += std::min(1.0, static_cast<double>(state.value(f)) / amplitude) * motion * share(f);
     }
     const std::string name = "viseme" + std::to_string(v);
     double moved = 0;
