@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Builds the samples into samples/build/ from the project's copies of the third-party data
-# (tests/data/candide3, tests/data/makehuman, tests/data/xface-fap, samples/makehuman; their
-# notices beside them): CANDIDE-3 as glTF, the MakeHuman head as .glb and .blend, and the
-# FAP streams (the Xface ones, and samples/streams/hello.txt spoken). docs/samples.md says
-# what each holds. Needs the build (scripts/build.sh); takes a few seconds.
+# (tests/data/candide3, tests/data/makehuman, tests/data/xface-fap, samples/makehuman,
+# tests/data/ict-facekit; their notices beside them): CANDIDE-3 as glTF, the MakeHuman head
+# as .glb and .blend, the ICT-FaceKit head as .glb, and the FAP streams (the Xface ones, and
+# samples/streams/hello.txt spoken). docs/samples.md says what each holds. Needs the build
+# (scripts/build.sh); takes a few seconds.
 # Environment: MPEG4FACE_BUILD_DIR (default build/release), BLENDER (default blender).
 set -euo pipefail
 cd "$(dirname "$0")/.."

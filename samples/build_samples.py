@@ -10,6 +10,7 @@
   where one fits a FAP (replacing the cloned key), and viseme and expression keys made from
   the FAP keys through the viseme and expression FIT presets.
 - makehuman_units.json: how each expression unit was mapped (docs/samples.md).
+- ict_head.glb: the ICT-FaceKit head with its ARKit shapes (samples/ict_head.py).
 
 Run with /usr/bin/python3 and the built module on PYTHONPATH (samples/build.sh does that).
 Every output is written to FILE.part and renamed, so a failed run leaves no half file.
@@ -23,6 +24,7 @@ import sys
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+import ict_head
 import mpeg4face
 import numpy as np
 
@@ -380,6 +382,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"samples: makehuman_head.glb, {sum(m.vertex_count for m in head.meshes)} vertices in "
           f"{len(head.meshes)} meshes, {len(keys)} shape keys ({len(mapped)} of MakeHuman's "
           f"{len(mappings)} expression units), {len(head.animations)} poses")
+    ict_head.main(["--out", str(args.out)])
     return 0
 
 

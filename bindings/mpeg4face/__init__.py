@@ -121,4 +121,13 @@ __all__ = [
     "read_fit_json",
     "fit_table_from_json",
     "fit_preset",
+    # face captures (Live Link Face, ARKit weights)
+    "livelink_channel_names",
+    "LiveLinkCapture",
+    "read_livelink_csv",
+    "write_livelink_csv",
+    "ArkitCaptureFace",
+    "prepare_arkit_capture_face",
+    "arkit_capture_to_faps",
+    "faps_to_arkit",
 ]

@@ -82,4 +82,5 @@ PYBIND11_MODULE(_core, m) {
   python::bindFapu(m);
   python::bindStream(m);
   python::bindFace(m);
+  python::bindCapture(m);
 }

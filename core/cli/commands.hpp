@@ -32,6 +32,8 @@ int runApply(const std::vector<std::string>& args);
 int runClone(const std::vector<std::string>& args);
 int runFit(const std::vector<std::string>& args);
 int runSpeak(const std::vector<std::string>& args);
+int runArkitToFap(const std::vector<std::string>& args);
+int runArkitFromFap(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 
