@@ -41,7 +41,10 @@ class TriangleInterpolator {
   TriangleInterpolator(Points2 points, std::vector<int> triangles, std::vector<double> depth = {},
                        std::vector<std::uint8_t> tags = {});
 
-  TriangleWeights locate(const Eigen::Vector2d& p, std::uint8_t excludedTags = 0) const;
+  // `belowTop` > 0: of the triangles holding p, the one whose depth is nearest to the
+  // smallest one's plus belowTop (a point under the outer surface: a fold, an inner layer).
+  TriangleWeights locate(const Eigen::Vector2d& p, std::uint8_t excludedTags = 0,
+                         double belowTop = 0) const;
 
   const Points2& points() const { return points_; }
   std::span<const int> triangles() const { return triangles_; }
