@@ -16,6 +16,7 @@ packages=(
   nodejs npm                                # gltf-validator
   view3dscene                               # tovrmlx3d, a third-party VRML97 reader for our .wrl
   flite                                     # speech synthesis with phone timings (mpeg4face speak)
+  libcgal-dev                               # self-intersections of a face in motion (mpeg4face check)
 )
 
 missing=()

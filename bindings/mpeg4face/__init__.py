@@ -130,4 +130,6 @@ __all__ = [
     "prepare_arkit_capture_face",
     "arkit_capture_to_faps",
     "faps_to_arkit",
+    # the motion check
+    "check_motion",
 ]

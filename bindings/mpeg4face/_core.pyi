@@ -630,3 +630,59 @@ def arkit_capture_to_faps(
     capture: LiveLinkCapture, head: FaceModel | ArkitCaptureFace, fps: float = 25.0
 ) -> FapStream: ...
 def faps_to_arkit(stream: FapStream, head: FaceModel | ArkitCaptureFace) -> LiveLinkCapture: ...
+# The motion check (docs/motion-check.md); the keys of `mpeg4face check --json`.
+class MeshMotion(TypedDict):
+    mesh: int
+    moved_edges: int
+    edge_ratio_max: float
+    edge_ratio_p99: float
+    offending_vertices: _Int32
+    flipped_triangles: list[int]  # indices into the mesh's fan triangles
+    new_intersections: list[tuple[int, int]]  # triangle pairs
+    touching_self_intersections: int
+
+class PoseMotion(TypedDict):
+    name: str
+    stream: int  # -1 for a key
+    frame: int
+    edge_ratio_max: float
+    edge_ratio_p99: float
+    normal_flips: int
+    new_self_intersections: int
+    touching_self_intersections: int
+    lip_corner_outside_mw0: float | None
+    inner_lip_gap_mns0: float | None
+    failures: list[str]
+    meshes: list[MeshMotion]
+
+class StreamMotion(TypedDict):
+    name: str
+    frames: int
+    inner_lip_gap_min_mns0: float
+    inner_lip_gap_max_mns0: float
+
+class MotionCheck(TypedDict):
+    passed: bool
+    keys: list[PoseMotion]
+    frames: list[PoseMotion]
+    streams: list[StreamMotion]
+    neutral_self_intersections: int
+    neutral_lip_gap_mns0: float | None
+    lower_lip_share: float | None
+    failures: list[str]
+    notes: list[str]
+
+def check_motion(
+    face: FaceModel | MpegFace,
+    streams: Sequence[FapStream] = ...,
+    *,
+    max_edge_ratio: float = 2.0,
+    flip_degrees: float = 120.0,
+    max_flips: int = 0,
+    max_intersections: int = 0,
+    max_lip_corner: float = 0.02,
+    min_lower_lip: float = 0.5,
+    lip_region: float = 0.25,
+    lid_region: float = 0.2,
+    progress: Callable[[int, int], None] | None = None,
+) -> MotionCheck: ...

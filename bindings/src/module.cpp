@@ -83,4 +83,5 @@ PYBIND11_MODULE(_core, m) {
   python::bindStream(m);
   python::bindFace(m);
   python::bindCapture(m);
+  python::bindCheck(m);
 }

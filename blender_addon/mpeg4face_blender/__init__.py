@@ -40,9 +40,11 @@ def register() -> None:
                 export, import_stream, operators, operators_faces, operators_stream, panels,
                 panels_faces, panels_stream, properties,
             )
+            from . import operators_check
 
             for module in (properties, operators, panels, operators_faces, panels_faces,
-                           export, operators_stream, import_stream, panels_stream):
+                           export, operators_stream, import_stream, panels_stream,
+                           operators_check):
                 module.register()
                 _registered.append(module)
     except Exception as error:  # noqa: BLE001 - e.g. a module too old for this add-on

@@ -34,6 +34,7 @@ int runFit(const std::vector<std::string>& args);
 int runSpeak(const std::vector<std::string>& args);
 int runArkitToFap(const std::vector<std::string>& args);
 int runArkitFromFap(const std::vector<std::string>& args);
+int runCheck(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 
