@@ -132,4 +132,10 @@ __all__ = [
     "faps_to_arkit",
     # the motion check
     "check_motion",
+    # ARKit blendshapes
+    "arkit_shape_names",
+    "arkit_shape_index",
+    "find_arkit_shapes",
+    "map_arkit_to_faps",
+    "arkit_fap_keys",
 ]

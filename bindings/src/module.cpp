@@ -84,4 +84,5 @@ PYBIND11_MODULE(_core, m) {
   python::bindFace(m);
   python::bindCapture(m);
   python::bindCheck(m);
+  python::bindArkit(m);
 }

@@ -35,6 +35,7 @@ int runSpeak(const std::vector<std::string>& args);
 int runArkitToFap(const std::vector<std::string>& args);
 int runArkitFromFap(const std::vector<std::string>& args);
 int runCheck(const std::vector<std::string>& args);
+int runArkit(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 

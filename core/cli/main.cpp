@@ -137,6 +137,19 @@ constexpr std::array kCommands{
             "  --json  print one JSON object (keys passed, limits, keys, frames, streams, ...)\n"
             "  exit status 0 within the limits, 4 past them; progress on stderr\n",
             mpeg4face::cli::runCheck},
+    Command{"arkit", "ARKit heads in MPEG-4: FAP, viseme and expression keys from ARKit shapes",
+            "mpeg4face arkit keys HEAD.glb|.gltf [--feature-points CSV] [--no-visemes]\n"
+            "                     [--no-expressions] -o OUT.glb|.gltf\n"
+            "  HEAD's morph targets named as ARKit's 52 blendshapes (eyeBlinkLeft, eyeBlink_L,\n"
+            "  EyeBlinkLeft, blendShape1.eyeBlinkLeft ...; some of them will do) become FAP\n"
+            "  keys fap<N>_<name>@<value> (the shapes' non-negative combination measured on\n"
+            "  the head, both signs where they exist; eyeball turns as poses of the eyes'\n"
+            "  Transforms), and viseme and expression keys made from them with the FIT\n"
+            "  presets; keys already named so are replaced. Prints the FAPs made and missed.\n"
+            "  OUT is ready for 'mpeg4face fat generate'. docs/arkit.md\n"
+            "  --feature-points CSV  bind feature points (needed for the FAPU), as info\n"
+            "  --no-visemes, --no-expressions  leave those keys out\n",
+            mpeg4face::cli::runArkit},
 };
 
 void printHelp(std::FILE* out) {
