@@ -1,0 +1,165 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Live Link Face captures to FAP streams and back on the ICT sample head (docs/arkit.md,
+"Captures"): issue 18's acceptance on the real capture (tests/data/livelink-face) and on
+the nine Xface streams (tests/data/xface-fap), the CLI's arkit to-fap / from-fap."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import mpeg4face
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "samples"))
+import ict_head  # noqa: E402
+
+CAPTURE = ROOT / "tests/data/livelink-face/MySlate_3_Jason_Millers_iPhone.csv"
+XFACE = sorted((ROOT / "tests/data/xface-fap").glob("*.fap"))
+MM = 1e-3  # the sample is in metres (docs/samples.md)
+CHANNELS = mpeg4face.livelink_channel_names()
+
+needs_keys = pytest.mark.skipif(not hasattr(mpeg4face, "arkit_fap_keys"),
+                                reason="the ICT head's FAP keys need mpeg4face.arkit_fap_keys")
+
+
+@pytest.fixture(scope="module")
+def sample(tmp_path_factory):
+    """The ICT sample built once (with its FAP keys when the module makes them), prepared
+    for captures, its tables' evaluator and the capture."""
+    out = tmp_path_factory.mktemp("ict")
+    assert ict_head.main(["--out", str(out)]) == 0
+    glb = out / "ict_head.glb"
+    head = mpeg4face.read_gltf(glb)
+    face = mpeg4face.prepare_arkit_capture_face(head)
+    skin = head.find_mesh("skin")
+    rows = np.flatnonzero(face.area[:, 0] == skin)  # the face area on the skin
+    linear = head.mesh_world_matrices()[skin][:3, :3]
+    return dict(glb=glb, head=head, face=face, skin=skin, rows=rows, linear=linear,
+                capture=mpeg4face.read_livelink_csv(CAPTURE))
+
+
+def shape_motion(sample, weights: np.ndarray) -> np.ndarray:
+    """(F, V, 3) the face area's motion through the head's own ARKit shapes."""
+    S = sample["face"].shape_motion.reshape(-1, 3, 52)[sample["rows"]]
+    return np.einsum("vck,fk->fvc", S, weights[:, :52])
+
+
+def table_motion(sample, evaluator, stream) -> np.ndarray:
+    """(F, V, 3) the face area's motion through the head's FaceDefTables."""
+    vertices = sample["face"].area[sample["rows"], 1]
+    neutral = evaluator.neutral()["coord"][sample["skin"]][vertices]
+    out = []
+    for i in range(len(stream)):
+        coord = evaluator.evaluate(stream, i)["coord"][sample["skin"]][vertices]
+        out.append((coord - neutral) @ sample["linear"].T)
+    return np.array(out)
+
+
+def frame_errors(reference: np.ndarray, reproduced: np.ndarray) -> np.ndarray:
+    """Per frame where the face moves at least 1 mm: the mean over the face area of each
+    vertex's |error|, relative to the frame's peak motion (the largest vertex motion)."""
+    peak = np.linalg.norm(reference, axis=2).max(axis=1)
+    moving = peak >= 1 * MM
+    assert moving.sum() >= 10, "too few frames move the face"
+    error = np.linalg.norm(reproduced - reference, axis=2)[moving]
+    return error.mean(axis=1) / peak[moving]
+
+
+def resampled_weights(capture, stream) -> np.ndarray:
+    times = capture.times[0] + stream.frame_numbers / stream.frame_rate
+    return np.stack([np.interp(times, capture.times, capture.values[:, k])
+                     for k in range(capture.values.shape[1])], axis=1)
+
+
+def test_sample_prepares(sample):
+    face = sample["face"]
+    assert sum(face.has_shape) == 51  # ICT has no tongueOut
+    assert len(face.warnings) == 1 and "TongueOut" in face.warnings[0]
+    assert len(sample["rows"]) > 5000
+
+
+def test_to_fap_follows_the_capture(sample):
+    """Jaw and eyelid follow their weights, the eye angles their channels, on any face
+    (through its FAP keys or, without, the FAPs' definition)."""
+    capture = sample["capture"]
+    stream = mpeg4face.arkit_capture_to_faps(capture, sample["face"], fps=25)
+    assert stream.frame_rate == 25
+    assert len(stream) == int(np.floor((capture.times[-1] - capture.times[0]) * 25 + 1e-6)) + 1
+    weights = resampled_weights(capture, stream)
+    values = stream.values
+    assert np.corrcoef(values[:, 2], weights[:, CHANNELS.index("JawOpen")])[0, 1] >= 0.9
+    assert np.corrcoef(values[:, 18], weights[:, CHANNELS.index("EyeBlinkLeft")])[0, 1] >= 0.9
+    # The eyes: FAP 25 (pitch, down) = LeftEyePitch / 1e-5; FAP 23 (yaw, left) = -LeftEyeYaw.
+    np.testing.assert_allclose(values[:, 24], weights[:, CHANNELS.index("LeftEyePitch")] / 1e-5,
+                               atol=0.51)
+    np.testing.assert_allclose(values[:, 22], -weights[:, CHANNELS.index("LeftEyeYaw")] / 1e-5,
+                               atol=0.51)
+
+
+@needs_keys
+def test_round_trip_through_the_tables(sample):
+    """ARKit weights -> FAP stream -> the ICT face's tables reproduce the capture's motion of
+    the face area: over the frames, the mean of the per-frame error (frame_errors) <= 15%
+    and its 95th percentile <= 30%."""
+    face = sample["face"]
+    assert face.from_tables
+    capture = sample["capture"]
+    stream = mpeg4face.arkit_capture_to_faps(capture, face, fps=25)
+    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(sample["head"])["face"])
+    reference = shape_motion(sample, resampled_weights(capture, stream))
+    errors = frame_errors(reference, table_motion(sample, evaluator, stream))
+    print(f"round trip: mean {errors.mean():.3f}, p95 {np.percentile(errors, 95):.3f} of the "
+          f"frame's peak motion over {len(errors)} frames")
+    assert errors.mean() <= 0.15
+    assert np.percentile(errors, 95) <= 0.30
+
+
+@needs_keys
+def test_from_fap_on_the_xface_streams(sample):
+    """Each Xface stream's motion of the ICT face is reproduced by ARKit weights in 0..1 with
+    mean error <= 20% of the peak motion."""
+    face = sample["face"]
+    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(sample["head"])["face"])
+    assert len(XFACE) == 9
+    for path in XFACE:
+        stream = mpeg4face.read_fap(path)
+        capture = mpeg4face.faps_to_arkit(stream, face)
+        weights = capture.values[:, :52]
+        assert weights.min() >= 0 and weights.max() <= 1, path.name
+        reference = table_motion(sample, evaluator, stream)
+        errors = frame_errors(reference, shape_motion(sample, weights))
+        print(f"{path.name}: mean {errors.mean():.3f} of the peak motion")
+        assert errors.mean() <= 0.20, path.name
+
+
+def test_cli_to_fap_and_back(sample, tmp_path):
+    cli = ROOT / "build/release/bin/mpeg4face"
+    if not cli.exists():
+        pytest.skip("the CLI is not built")
+    out = tmp_path / "capture.fap"
+    run = subprocess.run([cli, "arkit", "to-fap", CAPTURE, "--face", sample["glb"], "--fps", "30",
+                          "-o", out], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert "TongueOut" in run.stderr  # the one warning about the shapes the face lacks
+    stream = mpeg4face.read_fap(out)
+    assert stream.frame_rate == 30 and stream.name == CAPTURE.stem
+    back = tmp_path / "back.csv"
+    run = subprocess.run([cli, "arkit", "from-fap", out, "--face", sample["glb"], "-o", back],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    capture = mpeg4face.read_livelink_csv(back)
+    assert len(capture) == len(stream)
+    assert capture.values[:, :52].min() >= 0 and capture.values[:, :52].max() <= 1
+    # Bad input: the error names the line and column, and nothing is written.
+    bad = tmp_path / "bad.csv"
+    lines = CAPTURE.read_text().splitlines()
+    bad.write_text("\n".join(lines[:3] + [lines[3].replace(",0.", ",x", 1)]) + "\n")
+    run = subprocess.run([cli, "arkit", "to-fap", bad, "--face", sample["glb"], "-o",
+                          tmp_path / "bad.fap"], capture_output=True, text=True)
+    assert run.returncode == 1
+    assert "bad.csv:4" in run.stderr and "column 3 (EyeBlinkLeft)" in run.stderr, run.stderr
+    assert not (tmp_path / "bad.fap").exists()
