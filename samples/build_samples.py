@@ -4,13 +4,19 @@
 
 - candide3.glb: CANDIDE-3 with its feature points and its MPEG-4 FAP units as morph
   targets named in the shape-key grammar (fap3_open_jaw@1000, ...).
+- ict_head.glb: the ICT-FaceKit head with its ARKit shapes and the FAP, viseme and
+  expression keys made from them (samples/ict_head.py, mpeg4face.arkit_fap_keys).
 - makehuman_head.glb: MakeHuman's head cut from the hm08 base mesh, with the eyes, teeth and
   tongue as meshes of their own under their own Transforms, its feature points, FAP shape
-  keys cloned from CANDIDE-3 (Facial Motion Cloning), MakeHuman's own expression units
-  where one fits a FAP (replacing the cloned key), and viseme and expression keys made from
-  the FAP keys through the viseme and expression FIT presets.
+  keys cloned from the ICT head's ARKit-derived FAP keys (Facial Motion Cloning),
+  MakeHuman's own expression units where one fits a FAP (replacing the cloned key), and
+  viseme and expression keys made from the FAP keys through the viseme and expression FIT
+  presets.
 - makehuman_units.json: how each expression unit was mapped (docs/samples.md).
-- ict_head.glb: the ICT-FaceKit head with its ARKit shapes (samples/ict_head.py).
+
+CANDIDE-3 (one vertex per FAP unit) is no longer the MakeHuman head's clone source: cloned
+onto a dense head each unit became a tent over CANDIDE's few mouth triangles (issue 19); it
+stays a sample and the tests' small clone source.
 
 Run with /usr/bin/python3 and the built module on PYTHONPATH (samples/build.sh does that).
 Every output is written to FILE.part and renamed, so a failed run leaves no half file.
@@ -224,7 +230,7 @@ def map_unit(name: str, vertices: int, held: int, responses: dict[int, tuple[flo
 
 
 # Cloned copies left out: the eyeballs are rigid parts here (their turns are poses below),
-# so CANDIDE's eye units (23-30, vertex motion on its one mesh) do not apply.
+# so the source's eyeball FAPs (23-30) are not cloned.
 EYEBALL_FAPS = range(23, 31)
 # Pose amplitudes: AU (1e-5 rad) for the eyeball and head rotations.
 EYE_POSE_AU = 20000
@@ -244,8 +250,27 @@ JAW_PARTS = ("teeth_lower", "tongue")
 Keys = dict[str, list[np.ndarray]]  # shape key name -> displacement per mesh
 
 
-def cloned_keys(candide: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
-    cloned = mpeg4face.clone_face(candide, head)
+def clone_source(ict: mpeg4face.FaceModel) -> mpeg4face.FaceModel:
+    """The ICT head with only its low-level FAP keys: not its ARKit shapes (not in the
+    grammar), viseme and expression keys (made again on the target from its own FAP keys,
+    each alone from the neutral) or poses (the eyeball turns: the target has its own)."""
+    def low_level(name: str) -> bool:
+        parsed = mpeg4face.parse_shape_key_name(name)
+        return bool(parsed) and parsed["fap"] >= 3 and parsed["fap"] not in EYEBALL_FAPS
+
+    meshes = ict.meshes
+    for mesh in meshes:
+        mesh.morph_targets = [t for t in mesh.morph_targets if low_level(t.name)]
+    ict.meshes = meshes
+    ict.animations = []
+    if not any(mesh.morph_targets for mesh in meshes):
+        raise SystemExit("samples: the ICT head has no FAP keys (the module lacks "
+                         "mpeg4face.arkit_fap_keys?)")
+    return ict
+
+
+def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
+    cloned = mpeg4face.clone_face(source, head)
     for warning in cloned["warnings"]:
         print(f"clone: {warning}", file=sys.stderr)
     return {c["name"]: c["displacements"] for c in cloned["copies"]
@@ -361,6 +386,9 @@ def main(argv: list[str] | None = None) -> int:
     mpeg4face.write_gltf(candide, args.out / "candide3.glb")
     print(f"samples: candide3.glb, {len(candide.meshes[0].morph_targets)} FAP units")
 
+    ict_head.main(["--out", str(args.out)])
+    ict = mpeg4face.read_gltf(args.out / "ict_head.glb")
+
     head = makehuman_neutral()
     fapu = mpeg4face.measure_fapu(head)
     mappings, units = [], {}
@@ -369,7 +397,7 @@ def main(argv: list[str] | None = None) -> int:
         units[path.stem], held = unit_displacements(head, vertices, offsets)
         mappings.append(map_unit(path.stem, len(vertices), held,
                                  fap_responses(head, fapu, units[path.stem])))
-    keys = cloned_keys(candide, head)
+    keys = cloned_keys(clone_source(ict), head)
     replace_with_units(keys, units, mappings)
     head = with_keys(head, keys, poses(head, keys))
     more_keys, more_poses = viseme_and_expression_keys(head)
@@ -382,7 +410,6 @@ def main(argv: list[str] | None = None) -> int:
     print(f"samples: makehuman_head.glb, {sum(m.vertex_count for m in head.meshes)} vertices in "
           f"{len(head.meshes)} meshes, {len(keys)} shape keys ({len(mapped)} of MakeHuman's "
           f"{len(mappings)} expression units), {len(head.animations)} poses")
-    ict_head.main(["--out", str(args.out)])
     return 0
 
 
