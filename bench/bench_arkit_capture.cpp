@@ -50,9 +50,9 @@ int main(int argc, char** argv) {
                  headPath.string().c_str());
     return 1;
   }
-  const LiveLinkCapture capture = readLiveLinkCsv(std::filesystem::path(MPEG4FACE_SOURCE_DIR) /
-                                                  "tests" / "data" / "livelink-face" /
-                                                  "MySlate_3_Jason_Millers_iPhone.csv");
+  const LiveLinkCapture capture =
+      readLiveLinkCsv(std::filesystem::path(MPEG4FACE_SOURCE_DIR) / "tests" / "data" /
+                      "livelink-face" / "MySlate_3_Jason_Millers_iPhone.csv");
   const FaceModel head = readModel(headPath);
   ArkitCaptureFace face;
   const auto [prepareMs, prepareBest] = medianMs(3, [&] { face = prepareArkitCaptureFace(head); });
@@ -64,7 +64,8 @@ int main(int argc, char** argv) {
   FapStream stream;
   const int repeats = 20;  // the capture 20 times per run: 6,560 frames
   const auto [toMs, toBest] = medianMs(7, [&] {
-    for (int r = 0; r < repeats; ++r) stream = arkitCaptureToFaps(capture, face, {capture.frameRate, {}});
+    for (int r = 0; r < repeats; ++r)
+      stream = arkitCaptureToFaps(capture, face, {capture.frameRate, {}});
   });
   const double frames = static_cast<double>(stream.frames.size()) * repeats;
   std::printf("to-fap: %zu frames at %g fps: median %.0f frames/s (best %.0f) of 7 runs\n",

@@ -553,6 +553,8 @@ def add_fap_keys(head: mpeg4face.FaceModel) -> mpeg4face.FaceModel:
     made = mpeg4face.arkit_fap_keys(head)
     for warning in made["warnings"]:
         print(f"ict_head: {warning}", file=sys.stderr)
+    print(f"ict_head: {len(made['mapping'])} FAP keys from the ARKit shapes; "
+          f"{len(made['missed'])} FAPs or directions missed, each with its reason (docs/arkit.md)")
     return made["head"]
 
 

@@ -39,7 +39,7 @@ ROOT = Path(__file__).resolve().parent.parent
 SHAPES = ["eyeBlink_L", "eyeWide_R", "browInnerUp_L", "browDown_R", "jawOpen", "jawLeft",
           "mouthSmile_L", "mouthFunnel", "mouthPucker", "mouthLowerDown_R", "mouthRollLower",
           "mouthUpperUp_R", "mouthStretch_L", "cheekPuff_L", "noseSneer_R", "eyeLookOut_L"]
-FAPS = (3, 4, 5, 6, 12, 16, 17, 19, 31, 33, 35, 37, 39, 51, 52, 53, 55, 59, 61, 64)
+FAPS = (3, 4, 5, 6, 12, 16, 17, 19, 23, 25, 31, 33, 35, 37, 39, 51, 52, 53, 55, 59)
 COLOURS = {"skin": (0.80, 0.62, 0.52), "eyelashes": (0.15, 0.1, 0.08),
            "eye_left": (0.92, 0.92, 0.92), "eye_right": (0.92, 0.92, 0.92),
            "teeth_upper": (0.95, 0.93, 0.85), "teeth_lower": (0.95, 0.93, 0.85),
@@ -214,6 +214,7 @@ def main() -> None:
     scene = Scene(head)
     args.out.mkdir(parents=True, exist_ok=True)
     names = {t.name for m in head.meshes for t in m.morph_targets}
+    names |= {a.name for a in head.animations}  # poses (eyeball turns) too
     made = []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)

@@ -552,6 +552,48 @@ class GeneratedFace(TypedDict):
 def generate_face(
     model: FaceModel, threshold: float = 0.01, absolute_threshold: float | None = None
 ) -> GeneratedFace: ...
+# ARKit blendshapes (docs/arkit.md)
+class ArkitShapeRef(TypedDict):
+    shape: str  # Apple's spelling, e.g. "eyeBlinkLeft"
+    index: int  # into the 52 (then cheekRaiserLeft/Right, pupilDilateLeft/Right: 52..55)
+    half: str | None  # "left" / "right" for a half of a whole shape (browInnerUp_L)
+
+class ArkitShape(ArkitShapeRef):
+    name: str  # the head's morph-target name
+    meshes: list[int]
+
+class ArkitFapKey(TypedDict):
+    fap: int
+    amplitude: int
+    name: str  # fap<N>_<name>@<amplitude>
+    weights: dict[str, float]  # morph-target name -> weight, largest first
+    reached: float
+    residual: float
+    worst_point: str  # the other feature point the key moves most ("" for poses)
+    worst_motion: float  # its motion relative to the key's own
+    transform: int | None  # eyeball turns: the eye's Transform
+    rotation: tuple[float, float, float, float] | None  # x, y, z, w
+
+class ArkitMissedFap(TypedDict):
+    fap: int
+    sign: int  # +1 / -1, 0 for the FAP
+    reason: str
+
+class ArkitMapping(TypedDict):
+    keys: list[ArkitFapKey]
+    missed: list[ArkitMissedFap]
+
+class ArkitKeys(TypedDict):
+    head: FaceModel
+    mapping: list[ArkitFapKey]
+    missed: list[ArkitMissedFap]
+    warnings: list[str]
+
+def arkit_shape_names() -> list[str]: ...
+def arkit_shape_index(name: str) -> ArkitShapeRef | None: ...
+def find_arkit_shapes(head: FaceModel) -> list[ArkitShape]: ...
+def map_arkit_to_faps(head: FaceModel) -> ArkitMapping: ...
+def arkit_fap_keys(head: FaceModel, visemes: bool = True, expressions: bool = True) -> ArkitKeys: ...
 def read_vrml(path: _Path) -> MpegFace: ...
 def write_vrml(face: MpegFace, path: _Path) -> None: ...
 def write_face_gltf(face: MpegFace, path: _Path, streams: Sequence[FapStream] = ...) -> None: ...

@@ -51,7 +51,8 @@ py::list keyList(const ArkitMapping& mapping, const ArkitShapes& shapes) {
     py::dict d("fap"_a = key.fap, "amplitude"_a = key.amplitude,
                "name"_a = formatShapeKeyName(
                    {key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)}),
-               "weights"_a = weights, "reached"_a = key.reached, "residual"_a = key.residual);
+               "weights"_a = weights, "reached"_a = key.reached, "residual"_a = key.residual,
+               "worst_point"_a = key.worstPoint, "worst_motion"_a = key.worstMotion);
     d["transform"] = key.transform >= 0 ? py::object(py::int_(key.transform)) : py::none();
     d["rotation"] = key.transform >= 0
                         ? py::object(py::make_tuple(key.rotation.x(), key.rotation.y(),
@@ -95,7 +96,7 @@ void bindArkit(py::module_& m) {
   m.def(
       "find_arkit_shapes",
       [](py::handle head) {
-        const FaceModel core = toCore(asFaceModel(head, "find_arkit_shapes"), Depth::Structure);
+        const FaceModel core = toCore(asFaceModel(head, "find_arkit_shapes"));
         return shapeList(findArkitShapes(core));
       },
       "head"_a,
@@ -118,7 +119,8 @@ void bindArkit(py::module_& m) {
       "head"_a,
       "For each low-level FAP (and sign), the non-negative combination of the head's ARKit "
       "shapes that makes it (docs/arkit.md): dict(keys=[dict(fap, amplitude, name, weights "
-      "{target name: weight}, reached, residual, transform, rotation)], missed=[dict(fap, "
+      "{target name: weight}, reached, residual, worst_point, worst_motion, transform, rotation)], "
+      "missed=[dict(fap, "
       "sign, reason)]).");
   m.def(
       "arkit_fap_keys",

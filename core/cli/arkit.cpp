@@ -119,8 +119,10 @@ int runArkitKeys(const std::vector<std::string>& args) {
 }  // namespace
 
 int runArkit(const std::vector<std::string>& args) {
-  if (args.empty()) throw UsageError("no subcommand given (keys)");
+  if (args.empty()) throw UsageError("no subcommand given (keys, to-fap, from-fap)");
   if (args[0] == "keys") return runArkitKeys({args.begin() + 1, args.end()});
+  if (args[0] == "to-fap") return runArkitToFap({args.begin() + 1, args.end()});
+  if (args[0] == "from-fap") return runArkitFromFap({args.begin() + 1, args.end()});
   throw UsageError("unknown subcommand '" + args[0] + "'");
 }
 

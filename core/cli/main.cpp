@@ -137,7 +137,7 @@ constexpr std::array kCommands{
             "  --json  print one JSON object (keys passed, limits, keys, frames, streams, ...)\n"
             "  exit status 0 within the limits, 4 past them; progress on stderr\n",
             mpeg4face::cli::runCheck},
-    Command{"arkit", "ARKit heads in MPEG-4: FAP, viseme and expression keys from ARKit shapes",
+    Command{"arkit", "ARKit heads and captures in MPEG-4: FAP keys, captures to FAP streams and back",
             "mpeg4face arkit keys HEAD.glb|.gltf [--feature-points CSV] [--no-visemes]\n"
             "                     [--no-expressions] -o OUT.glb|.gltf\n"
             "  HEAD's morph targets named as ARKit's 52 blendshapes (eyeBlinkLeft, eyeBlink_L,\n"
@@ -148,7 +148,15 @@ constexpr std::array kCommands{
             "  presets; keys already named so are replaced. Prints the FAPs made and missed.\n"
             "  OUT is ready for 'mpeg4face fat generate'. docs/arkit.md\n"
             "  --feature-points CSV  bind feature points (needed for the FAPU), as info\n"
-            "  --no-visemes, --no-expressions  leave those keys out\n",
+            "  --no-visemes, --no-expressions  leave those keys out\n"
+            "mpeg4face arkit to-fap CAPTURE.csv [--face HEAD.glb] [--fps N] -o OUT.fap\n"
+            "mpeg4face arkit from-fap STREAM.fap|.fba [--face HEAD.glb] -o OUT.csv\n"
+            "  a Live Link Face capture (CSV of ARKit weights and head / eye angles) as a FAP\n"
+            "  stream at N fps (default 25), or a stream as ARKit weights in that layout:\n"
+            "  per frame the FAP values or the weights (0..1) that best reproduce the other's\n"
+            "  motion of the face (bounded least squares); FAPs 23-26, 48-50 from the angles\n"
+            "  --face HEAD  a head with ARKit shapes (and FAP keys) (default: the ICT sample,\n"
+            "               samples/build/ict_head.glb from samples/build.sh)\n",
             mpeg4face::cli::runArkit},
 };
 

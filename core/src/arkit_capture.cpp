@@ -3,13 +3,13 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <set>
 #include <string>
 
+#include "mpeg4face/arkit.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat_evaluate.hpp"
 #include "mpeg4face/fat_names.hpp"
@@ -23,39 +23,12 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // FAPs a capture's angles give, never fitted to the face area's motion.
 bool isAngleFap(int fap) { return (fap >= 23 && fap <= 26) || (fap >= 48 && fap <= 50); }
 
-std::string normalisedName(std::string_view name) {
-  const std::size_t dot = name.rfind('.');
-  if (dot != std::string_view::npos) name.remove_prefix(dot + 1);
-  std::string lower;
-  for (char c : name) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lower.ends_with("_l")) lower.replace(lower.size() - 2, 2, "left");
-  if (lower.ends_with("_r")) lower.replace(lower.size() - 2, 2, "right");
-  std::erase_if(lower, [](char c) { return c == '_' || c == '-' || c == ' '; });
-  return lower;
-}
-
-// The Live Link weight channel (0..51) a morph target shows, or nullopt. A name that is a
-// channel with Left/Right added is one half of that channel's shape (ICT's browInnerUp_L).
+// The Live Link weight channel (0..51) a morph target shows, or nullopt (ICT's extra shapes
+// too); halves of a shape (ICT's browInnerUp_L) add up to it.
 std::optional<int> arkitChannel(std::string_view targetName) {
-  static const std::vector<std::string> channels = [] {
-    std::vector<std::string> out;
-    for (int k = 0; k < kLiveLinkWeightCount; ++k) {
-      out.push_back(normalisedName(liveLinkChannelNames()[static_cast<std::size_t>(k)]));
-    }
-    return out;
-  }();
-  std::string name = normalisedName(targetName);
-  for (int pass = 0; pass < 2; ++pass) {
-    const auto it = std::find(channels.begin(), channels.end(), name);
-    if (it != channels.end()) return static_cast<int>(it - channels.begin());
-    for (std::string_view side : {"left", "right"}) {
-      if (name.ends_with(side)) {
-        name.resize(name.size() - side.size());
-        break;
-      }
-    }
-  }
-  return std::nullopt;
+  const std::optional<ArkitShapeRef> ref = arkitShapeIndex(targetName);
+  if (!ref || ref->shape >= kArkitShapeCount) return std::nullopt;
+  return ref->shape;
 }
 
 // The FAP's positive direction in the standard's axes (x the face's left, y up, z forward),
@@ -81,7 +54,9 @@ std::vector<bool> meshesUnderAnimatedTransforms(const MpegFace& face) {
   while (!stack.empty()) {
     const int t = stack.back();
     stack.pop_back();
-    if (t < 0 || static_cast<std::size_t>(t) >= animated.size() || animated[static_cast<std::size_t>(t)]) continue;
+    if (t < 0 || static_cast<std::size_t>(t) >= animated.size() ||
+        animated[static_cast<std::size_t>(t)])
+      continue;
     animated[static_cast<std::size_t>(t)] = true;
     const Transform& node = model.transforms[static_cast<std::size_t>(t)];
     for (int m : node.meshes) meshes[static_cast<std::size_t>(m)] = true;
@@ -160,9 +135,11 @@ void boundedLeastSquares(const Eigen::MatrixXd& G, const Eigen::VectorXd& b,
         // b_F - G_FB x_B: the bound variables' pull on the free ones.
         rhs[r] = b[i];
         for (Eigen::Index j = 0; j < n; ++j) {
-          if (state[static_cast<std::size_t>(j)] != State::Free && x[j] != 0) rhs[r] -= G(i, j) * x[j];
+          if (state[static_cast<std::size_t>(j)] != State::Free && x[j] != 0)
+            rhs[r] -= G(i, j) * x[j];
         }
-        for (Eigen::Index c = 0; c < f; ++c) subGram(r, c) = G(i, free[static_cast<std::size_t>(c)]);
+        for (Eigen::Index c = 0; c < f; ++c)
+          subGram(r, c) = G(i, free[static_cast<std::size_t>(c)]);
       }
       cholesky.compute(subGram);
       z = cholesky.solve(rhs);
@@ -237,7 +214,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
       if (!k) continue;
       out.hasShape[static_cast<std::size_t>(*k)] = true;
       for (Eigen::Index v = 0; v < t.displacements.rows(); ++v) {
-        if (t.displacements.row(v).squaredNorm() > 0) addVertex(static_cast<int>(m), static_cast<int>(v));
+        if (t.displacements.row(v).squaredNorm() > 0)
+          addVertex(static_cast<int>(m), static_cast<int>(v));
       }
     }
   }
@@ -256,7 +234,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
     throw Error({}, 0, "morph targets",
                 "the face has no ARKit blendshape (on a mesh no Transform animates); looked for "
                 "morph targets named as ARKit's (eyeBlinkLeft, EyeBlinkLeft, eyeBlink_L, "
-                "blendShape1.eyeBlinkLeft, eye_blink_left): " + looked);
+                "blendShape1.eyeBlinkLeft, eye_blink_left): " +
+                    looked);
   }
   if (!missing.empty()) {
     out.warnings.push_back("the face lacks " + std::to_string(kLiveLinkWeightCount - found) +
@@ -316,8 +295,7 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
       for (Eigen::Index v = 0; v < t.displacements.rows(); ++v) {
         const int row = areaRow[m][static_cast<std::size_t>(v)];
         if (row >= 0) {
-          out.shapeMotion.block<3, 1>(3 * row, *k) +=
-              linear * t.displacements.row(v).transpose();
+          out.shapeMotion.block<3, 1>(3 * row, *k) += linear * t.displacements.row(v).transpose();
         }
       }
     }
@@ -351,7 +329,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
       }
     }
     out.fapMotion.resize(rows, static_cast<Eigen::Index>(columns.size()));
-    for (std::size_t c = 0; c < columns.size(); ++c) out.fapMotion.col(static_cast<Eigen::Index>(c)) = columns[c];
+    for (std::size_t c = 0; c < columns.size(); ++c)
+      out.fapMotion.col(static_cast<Eigen::Index>(c)) = columns[c];
   } else {
     std::size_t count = 0;
     for (const DefinitionColumn& d : definition) count += fapInfo(d.fap).bidirectional ? 2 : 1;
@@ -414,7 +393,9 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
   int source = 0;  // the capture frame at or before the output frame's time
   for (int f = 0; f < frames; ++f) {
     const double time = start + f / options.fps;
-    while (source + 1 < capture.frameCount() && capture.times[static_cast<std::size_t>(source + 1)] <= time) ++source;
+    while (source + 1 < capture.frameCount() &&
+           capture.times[static_cast<std::size_t>(source + 1)] <= time)
+      ++source;
     const int next = std::min(source + 1, capture.frameCount() - 1);
     const double t0 = capture.times[static_cast<std::size_t>(source)];
     const double t1 = capture.times[static_cast<std::size_t>(next)];

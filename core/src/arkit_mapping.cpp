@@ -27,8 +27,13 @@ constexpr double kMinReached = 0.85;
 constexpr double kMaxOtherMotion = 1.25;
 // ... and move its feature point by at least this fraction of ES0 (smaller is noise).
 constexpr double kMinMotionEs0 = 0.01;
+// A step past the first saturated shape is taken only while its other motion stays within
+// this factor of the first step's, or below kCleanResidual (the key grows with its
+// next-cleanest shapes, not with all of them).
+constexpr double kMaxStepResidual = 1.5;
+constexpr double kCleanResidual = 0.5;
 // What a shape's weight of 1 costs in the least squares, as motion of a point in ES0.
-constexpr double kWeightCost = 0.05;
+constexpr double kWeightCost = 0.01;
 // An eyeLook shape turns the eye when its motion of the eyeball is a rotation about the eye's
 // Transform centre within this share of the motion.
 constexpr double kMaxRotationFitError = 0.25;
@@ -119,79 +124,111 @@ void mapLinearFap(const LinearFap& fap, int sign, const ArkitPointMotion& motion
     }
   }
   // The weights themselves cost a little (a weight of 1 as much as moving a point by
-  // kWeightCost ES0), so that of two ways to the same motion the one using shapes less wins:
-  // the jaw opens with jawOpen rather than with every shape that drags the chin a little.
+  // kWeightCost ES0), which makes the answer unique when shapes overlap.
   Eigen::MatrixXd weighted(3 * points + n, n);
   weighted << rowWeight.asDiagonal() * A, Eigen::MatrixXd::Identity(n, n) * (kWeightCost * es0);
   Eigen::VectorXd wb(3 * points + n);
   wb << rowWeight.asDiagonal() * b, Eigen::VectorXd::Zero(n);
-  const Eigen::VectorXd w1 = nonNegativeLeastSquares(weighted, wb);
+  const Eigen::VectorXd counts = (rowWeight.array() > 0).cast<double>();
+  // How good weights `w` are for motion `along` of the FAP's point: the other motion (every
+  // row that counts, unweighted, relative to `along`) and the point that moves most.
+  struct Quality {
+    double residual = 0, worst = 0;
+    std::string worstPoint;
+  };
+  const auto quality = [&](const Eigen::VectorXd& w, double along) {
+    Eigen::VectorXd others = counts.asDiagonal() * (A * w - along * b);
+    others(3 * fap.point) = 0;
+    Quality q{others.norm() / along, 0, ""};
+    for (Eigen::Index p = 0; p < points; ++p) {
+      if (others.segment<3>(3 * p).norm() > q.worst * along) {
+        q.worst = others.segment<3>(3 * p).norm() / along;
+        q.worstPoint = motion.points[static_cast<std::size_t>(p)];
+      }
+    }
+    return q;
+  };
   const std::string& point = motion.points[static_cast<std::size_t>(fap.point)];
   const std::string toward =
       std::string(sign > 0 ? "" : "against ") + std::string(fap.info->positiveMotion);
-  if (w1.size() == 0 || w1.maxCoeff() <= 0) {
-    out.missed.push_back(
-        {fap.info->number, sign, "no ARKit shape of the head moves " + point + " " + toward});
-    return;
-  }
-  // Per unit of motion (model units) the weights are w1: the largest amplitude with every
-  // weight <= 1 is 1 / max(w1).
-  const Eigen::VectorXd error = A * w1 - b;
-  const double reached = 1 + error(3 * fap.point);
-  // What the key moves that it should not: every row that counts, unweighted.
-  Eigen::VectorXd others = (rowWeight.array() > 0).cast<double>().matrix().asDiagonal() * error;
-  others(3 * fap.point) = 0;
-  const double residual = others.norm();
-  double worst = 0;
-  std::string worstPoint;
-  for (Eigen::Index p = 0; p < points; ++p) {
-    if (others.segment<3>(3 * p).norm() > worst) {
-      worst = others.segment<3>(3 * p).norm();
-      worstPoint = motion.points[static_cast<std::size_t>(p)];
+  // The amplitude: the combination per unit of motion (NNLS) taken as far as every weight
+  // allows (<= 1); when a shape reaches 1 it stays there and the others, solved again for
+  // more motion, carry on, as long as each step is clean (a small shape that saturates
+  // early, like mouthLowerDown for the chin, hands over to a larger one, like jawOpen).
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(n);
+  double firstReached = 0, firstResidual = 0;
+  char text[160] = "";
+  for (Eigen::Index step = 0; step < n; ++step) {
+    for (Eigen::Index c = 0; c < n; ++c) {
+      if (w(c) >= 1) weighted.col(c).setZero();
+    }
+    const Eigen::VectorXd w1 = nonNegativeLeastSquares(weighted, wb);
+    if (w1.maxCoeff() <= 0) {
+      if (step == 0) {
+        std::snprintf(text, sizeof text, "no ARKit shape of the head moves %s %s", point.c_str(),
+                      toward.c_str());
+      }
+      break;
+    }
+    const double reached = (A.row(3 * fap.point) * w1).value();
+    const Quality q = quality(w1, reached);
+    if (step == 0) {
+      firstReached = reached;
+      firstResidual = q.residual;
+    }
+    if (reached < kMinReached || q.worst > kMaxOtherMotion) {
+      if (step > 0) break;
+      if (reached < kMinReached) {
+        std::snprintf(text, sizeof text,
+                      "the shapes move %s %s only %.0f%% as asked without moving the other "
+                      "feature points more",
+                      point.c_str(), toward.c_str(), 100 * reached);
+      } else {
+        std::snprintf(text, sizeof text,
+                      "the shapes that move %s %s move %s %.1f times as much (at most %.2f)",
+                      point.c_str(), toward.c_str(), q.worstPoint.c_str(), q.worst,
+                      kMaxOtherMotion);
+      }
+      break;
+    }
+    if (step > 0 && q.residual > std::max(kMaxStepResidual * firstResidual, kCleanResidual)) break;
+    double room = std::numeric_limits<double>::infinity();
+    for (Eigen::Index c = 0; c < n; ++c) {
+      if (w1(c) > 0) room = std::min(room, (1 - w(c)) / w1(c));
+    }
+    w += room * w1;
+    for (Eigen::Index c = 0; c < n; ++c) {
+      if (w(c) > 1 - 1e-9) w(c) = 1;
     }
   }
-  const double motionAtFullWeight = 1 / w1.maxCoeff();
-  char text[160];
-  if (reached < kMinReached) {
-    std::snprintf(text, sizeof text,
-                  "the shapes move %s %s only %.0f%% as asked without moving "
-                  "the other feature points more",
-                  point.c_str(), toward.c_str(), 100 * reached);
+  if (text[0] != 0) {
     out.missed.push_back({fap.info->number, sign, text});
     return;
   }
-  if (worst > kMaxOtherMotion) {
-    std::snprintf(text, sizeof text,
-                  "the shapes that move %s %s move %s %.1f times as much (at "
-                  "most %.1f)",
-                  point.c_str(), toward.c_str(), worstPoint.c_str(), worst, kMaxOtherMotion);
-    out.missed.push_back({fap.info->number, sign, text});
-    return;
-  }
+  const double along = (A.row(3 * fap.point) * w).value();
   // floor: every weight stays <= 1 (the margin keeps an exact value from rounding down).
-  const int value = static_cast<int>(std::floor(motionAtFullWeight * reached / fap.unit + 1e-9));
+  const int value = static_cast<int>(std::floor(along / fap.unit + 1e-9));
   if (value * fap.unit < minMotion) {
     std::snprintf(text, sizeof text,
-                  "the shapes move %s %s by %.3g model units at most (less "
-                  "than %.0f%% of ES0)",
-                  point.c_str(), toward.c_str(), motionAtFullWeight * reached, 100 * kMinMotionEs0);
+                  "the shapes move %s %s by %.3g model units at most (less than %.0f%% of ES0)",
+                  point.c_str(), toward.c_str(), along, 100 * kMinMotionEs0);
     out.missed.push_back({fap.info->number, sign, text});
     return;
   }
   ArkitFapKey key;
   key.fap = fap.info->number;
   key.amplitude = sign * value;
-  const double scale = value * fap.unit / reached;  // model units of motion asked for
+  w *= value * fap.unit / along;  // the point moves by the amplitude exactly
   for (Eigen::Index c = 0; c < n; ++c) {
-    const double w = std::min(1.0, w1(c) * scale);
-    if (w > 1e-4) key.weights.emplace_back(columns[static_cast<std::size_t>(c)], w);
+    if (w(c) > 1e-4) key.weights.emplace_back(columns[static_cast<std::size_t>(c)], w(c));
   }
   std::sort(key.weights.begin(), key.weights.end(),
             [](const auto& x, const auto& y) { return x.second > y.second; });
-  key.reached = reached;
-  key.residual = residual;
-  key.worstPoint = worstPoint;
-  key.worstMotion = worst;
+  const Quality q = quality(w, value * fap.unit);
+  key.reached = firstReached;
+  key.residual = q.residual;
+  key.worstPoint = q.worstPoint;
+  key.worstMotion = q.worst;
   out.keys.push_back(std::move(key));
 }
 

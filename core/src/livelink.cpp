@@ -16,23 +16,67 @@
 namespace mpeg4face {
 namespace {
 
-constexpr std::array<std::string_view, kLiveLinkChannelCount> kChannels{
-    "EyeBlinkLeft",     "EyeLookDownLeft",   "EyeLookInLeft",     "EyeLookOutLeft",
-    "EyeLookUpLeft",    "EyeSquintLeft",     "EyeWideLeft",       "EyeBlinkRight",
-    "EyeLookDownRight", "EyeLookInRight",    "EyeLookOutRight",   "EyeLookUpRight",
-    "EyeSquintRight",   "EyeWideRight",      "JawForward",        "JawRight",
-    "JawLeft",          "JawOpen",           "MouthClose",        "MouthFunnel",
-    "MouthPucker",      "MouthRight",        "MouthLeft",         "MouthSmileLeft",
-    "MouthSmileRight",  "MouthFrownLeft",    "MouthFrownRight",   "MouthDimpleLeft",
-    "MouthDimpleRight", "MouthStretchLeft",  "MouthStretchRight", "MouthRollLower",
-    "MouthRollUpper",   "MouthShrugLower",   "MouthShrugUpper",   "MouthPressLeft",
-    "MouthPressRight",  "MouthLowerDownLeft", "MouthLowerDownRight", "MouthUpperUpLeft",
-    "MouthUpperUpRight", "BrowDownLeft",     "BrowDownRight",     "BrowInnerUp",
-    "BrowOuterUpLeft",  "BrowOuterUpRight",  "CheekPuff",         "CheekSquintLeft",
-    "CheekSquintRight", "NoseSneerLeft",     "NoseSneerRight",    "TongueOut",
-    "HeadYaw",          "HeadPitch",         "HeadRoll",          "LeftEyeYaw",
-    "LeftEyePitch",     "LeftEyeRoll",       "RightEyeYaw",       "RightEyePitch",
-    "RightEyeRoll"};
+constexpr std::array<std::string_view, kLiveLinkChannelCount> kChannels{"EyeBlinkLeft",
+                                                                        "EyeLookDownLeft",
+                                                                        "EyeLookInLeft",
+                                                                        "EyeLookOutLeft",
+                                                                        "EyeLookUpLeft",
+                                                                        "EyeSquintLeft",
+                                                                        "EyeWideLeft",
+                                                                        "EyeBlinkRight",
+                                                                        "EyeLookDownRight",
+                                                                        "EyeLookInRight",
+                                                                        "EyeLookOutRight",
+                                                                        "EyeLookUpRight",
+                                                                        "EyeSquintRight",
+                                                                        "EyeWideRight",
+                                                                        "JawForward",
+                                                                        "JawRight",
+                                                                        "JawLeft",
+                                                                        "JawOpen",
+                                                                        "MouthClose",
+                                                                        "MouthFunnel",
+                                                                        "MouthPucker",
+                                                                        "MouthRight",
+                                                                        "MouthLeft",
+                                                                        "MouthSmileLeft",
+                                                                        "MouthSmileRight",
+                                                                        "MouthFrownLeft",
+                                                                        "MouthFrownRight",
+                                                                        "MouthDimpleLeft",
+                                                                        "MouthDimpleRight",
+                                                                        "MouthStretchLeft",
+                                                                        "MouthStretchRight",
+                                                                        "MouthRollLower",
+                                                                        "MouthRollUpper",
+                                                                        "MouthShrugLower",
+                                                                        "MouthShrugUpper",
+                                                                        "MouthPressLeft",
+                                                                        "MouthPressRight",
+                                                                        "MouthLowerDownLeft",
+                                                                        "MouthLowerDownRight",
+                                                                        "MouthUpperUpLeft",
+                                                                        "MouthUpperUpRight",
+                                                                        "BrowDownLeft",
+                                                                        "BrowDownRight",
+                                                                        "BrowInnerUp",
+                                                                        "BrowOuterUpLeft",
+                                                                        "BrowOuterUpRight",
+                                                                        "CheekPuff",
+                                                                        "CheekSquintLeft",
+                                                                        "CheekSquintRight",
+                                                                        "NoseSneerLeft",
+                                                                        "NoseSneerRight",
+                                                                        "TongueOut",
+                                                                        "HeadYaw",
+                                                                        "HeadPitch",
+                                                                        "HeadRoll",
+                                                                        "LeftEyeYaw",
+                                                                        "LeftEyePitch",
+                                                                        "LeftEyeRoll",
+                                                                        "RightEyeYaw",
+                                                                        "RightEyePitch",
+                                                                        "RightEyeRoll"};
 
 constexpr std::array<double, 8> kTimecodeRates{24, 25, 30, 48, 50, 60, 100, 120};
 
@@ -106,9 +150,8 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
   std::array<bool, kLiveLinkChannelCount> found{};
   for (std::size_t c = 0; c < header.size(); ++c) {
     const std::string name = lowerCase(header[c]);
-    const auto known = std::find_if(kChannels.begin(), kChannels.end(), [&](std::string_view k) {
-      return lowerCase(k) == name;
-    });
+    const auto known = std::find_if(kChannels.begin(), kChannels.end(),
+                                    [&](std::string_view k) { return lowerCase(k) == name; });
     const std::string column = "column " + std::to_string(c + 1) + " " + text::quote(header[c]);
     if (name == "timecode") {
       if (timecodeColumn) throw Error(fileName, headerLine, column, "a second Timecode column");
@@ -139,8 +182,8 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
   if (!ignored.empty()) {
     std::string list;
     for (const std::string& name : ignored) list += (list.empty() ? "" : ", ") + text::quote(name);
-    capture.warnings.push_back(fileName + ": columns ignored (not Live Link Face channels): " +
-                               list);
+    capture.warnings.push_back(fileName +
+                               ": columns ignored (not Live Link Face channels): " + list);
   }
 
   struct Row {
@@ -170,8 +213,8 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
       if (channel == -1) {
         const std::optional<Timecode> t = parseTimecode(cells[c]);
         if (!t) {
-          reader.fail(columnName(c), "timecode hh:mm:ss:frame.fraction expected, found " +
-                                         text::quote(cells[c]));
+          reader.fail(columnName(c),
+                      "timecode hh:mm:ss:frame.fraction expected, found " + text::quote(cells[c]));
         }
         row.timecode = *t;
         continue;
@@ -179,11 +222,11 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
       double value = 0;
       if (!text::tryParseDouble(cells[c], value)) {
         const std::string lower = lowerCase(cells[c]);
-        const bool notFinite = lower.find("nan") != std::string::npos ||
-                               lower.find("inf") != std::string::npos;
-        reader.fail(columnName(c), (notFinite ? "a finite number expected, found "
-                                              : "a number expected, found ") +
-                                       text::quote(cells[c]));
+        const bool notFinite =
+            lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos;
+        reader.fail(columnName(c),
+                    (notFinite ? "a finite number expected, found " : "a number expected, found ") +
+                        text::quote(cells[c]));
       }
       if (channel >= 0) values[first + static_cast<std::size_t>(channel)] = value;
     }
@@ -211,14 +254,15 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
   capture.frameRate = crossesSecond ? rate : std::max(rate, 60.0);
 
   const auto frameCount = static_cast<Eigen::Index>(rows.size());
-  capture.values = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                                                  Eigen::RowMajor>>(values.data(), frameCount,
-                                                                    kLiveLinkChannelCount);
+  capture.values =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          values.data(), frameCount, kLiveLinkChannelCount);
   capture.times.reserve(rows.size());
   const std::string timecodeName = columnName(*timecodeColumn);
   for (const Row& r : rows) {
     const Timecode& t = r.timecode;
-    const double time = t.hours * 3600.0 + t.minutes * 60.0 + t.seconds + t.frame / capture.frameRate;
+    const double time =
+        t.hours * 3600.0 + t.minutes * 60.0 + t.seconds + t.frame / capture.frameRate;
     if (!capture.times.empty() && time < capture.times.back()) {
       throw Error(fileName, r.line, timecodeName,
                   "the timecode goes backwards (earlier than the row before)");

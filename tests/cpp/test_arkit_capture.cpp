@@ -44,7 +44,8 @@ Points3 bump(double cx, double cy, double radius, const Eigen::Vector3d& motion)
 
 Points3 jaw() {
   Points3 d = Points3::Zero(kSide * kSide, 3);
-  for (int i = 0; i < d.rows(); ++i) d(i, 1) = -0.5 * std::clamp(-2.25 - gridPoint(i).y(), 0.0, 1.0);
+  for (int i = 0; i < d.rows(); ++i)
+    d(i, 1) = -0.5 * std::clamp(-2.25 - gridPoint(i).y(), 0.0, 1.0);
   return d;
 }
 
@@ -74,7 +75,8 @@ FaceModel syntheticHead(bool withKeys, bool withShapes = true) {
   if (withShapes) mesh.morphTargets = shapes;
   if (withKeys) {
     const auto key = [&](const char* name, int shape) {
-      mesh.morphTargets.push_back({name, kKeyScale * shapes[static_cast<std::size_t>(shape)].displacements});
+      mesh.morphTargets.push_back(
+          {name, kKeyScale * shapes[static_cast<std::size_t>(shape)].displacements});
     };
     key("fap3_open_jaw@400", 0);
     key("fap19@300", 1);
@@ -87,10 +89,10 @@ FaceModel syntheticHead(bool withKeys, bool withShapes = true) {
   head.addMeshWithTransform(std::move(mesh));
   // ES0 3, IRISD0 1, ENS0 2, MNS0 1, MW0 3.
   const std::vector<std::tuple<const char*, double, double>> points{
-      {"3.5", 1.5, 1},     {"3.6", -1.5, 1},  {"3.1", 1.5, 1.5}, {"3.2", -1.5, 1.5},
-      {"3.3", 1.5, 0.5},   {"3.4", -1.5, 0.5}, {"9.15", 0, -1},  {"2.2", 0, -2},
-      {"2.3", 0, -2.5},    {"8.3", 1.5, -2},  {"8.4", -1.5, -2}, {"2.1", 0, -4.5},
-      {"2.4", 1.5, -2.5},  {"2.5", -1.5, -2.5}, {"4.1", 0.5, 2.5}, {"4.2", -0.5, 2.5}};
+      {"3.5", 1.5, 1},    {"3.6", -1.5, 1},    {"3.1", 1.5, 1.5}, {"3.2", -1.5, 1.5},
+      {"3.3", 1.5, 0.5},  {"3.4", -1.5, 0.5},  {"9.15", 0, -1},   {"2.2", 0, -2},
+      {"2.3", 0, -2.5},   {"8.3", 1.5, -2},    {"8.4", -1.5, -2}, {"2.1", 0, -4.5},
+      {"2.4", 1.5, -2.5}, {"2.5", -1.5, -2.5}, {"4.1", 0.5, 2.5}, {"4.2", -0.5, 2.5}};
   for (const auto& [id, x, y] : points) {
     mpeg4face::FeaturePointBinding& b = head.featurePoints[id];
     b.mesh = 0;
@@ -113,7 +115,8 @@ int channel(const char* name) {
 // as `fill` says.
 LiveLinkCapture capture(int frames) {
   LiveLinkCapture c;
-  c.channels.assign(mpeg4face::liveLinkChannelNames().begin(), mpeg4face::liveLinkChannelNames().end());
+  c.channels.assign(mpeg4face::liveLinkChannelNames().begin(),
+                    mpeg4face::liveLinkChannelNames().end());
   c.frameRate = 60;
   c.values = Eigen::MatrixXd::Zero(frames, mpeg4face::kLiveLinkChannelCount);
   for (int f = 0; f < frames; ++f) {
@@ -180,9 +183,9 @@ TEST(ArkitCapture, ToFapsReproducesTheWeightsThroughTheKeys) {
 
 TEST(ArkitCapture, AnglesToFapsAndBack) {
   LiveLinkCapture c = capture(2);
-  c.values(0, mpeg4face::kLeftEyeYaw) = 0.1;     // towards the face's right: FAP 23 < 0
+  c.values(0, mpeg4face::kLeftEyeYaw) = 0.1;  // towards the face's right: FAP 23 < 0
   c.values(0, mpeg4face::kRightEyeYaw) = 0.05;
-  c.values(0, mpeg4face::kLeftEyePitch) = 0.2;   // down: FAP 25 > 0
+  c.values(0, mpeg4face::kLeftEyePitch) = 0.2;  // down: FAP 25 > 0
   c.values(0, mpeg4face::kRightEyePitch) = -0.1;
   c.values(0, mpeg4face::kHeadPitch) = 0.03;
   c.values(0, mpeg4face::kHeadYaw) = -0.04;
@@ -212,7 +215,8 @@ TEST(ArkitCapture, FromFapsGivesTheWeightsBack) {
   EXPECT_NEAR(back.times[60], 1.0, 1e-12);
   EXPECT_GE(back.values.leftCols(52).minCoeff(), 0);
   EXPECT_LE(back.values.leftCols(52).maxCoeff(), 1);
-  for (const char* name : {"JawOpen", "EyeBlinkLeft", "EyeBlinkRight", "MouthSmileLeft", "BrowInnerUp"}) {
+  for (const char* name :
+       {"JawOpen", "EyeBlinkLeft", "EyeBlinkRight", "MouthSmileLeft", "BrowInnerUp"}) {
     const int k = channel(name);
     // The FAPs are whole numbers: 1 FAPU is 1/800 .. 1/400 of a unit weight here.
     EXPECT_LT((back.values.col(k) - c.values.col(k)).cwiseAbs().maxCoeff(), 5e-3) << name;
@@ -294,8 +298,9 @@ TEST(ArkitCapture, BadArguments) {
                 .reason()
                 .find("no frames"),
             std::string::npos);
-  EXPECT_NE(mpeg4face::test::errorOf(
-                [&] { mpeg4face::arkitCaptureToFaps(capture(3), keyedFace(), {0, {}}); })
+  EXPECT_NE(mpeg4face::test::errorOf([&] {
+              mpeg4face::arkitCaptureToFaps(capture(3), keyedFace(), {0, {}});
+            })
                 .reason()
                 .find("frame rate"),
             std::string::npos);

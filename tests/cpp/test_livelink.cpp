@@ -29,11 +29,14 @@ std::string header() {
 std::string row(const std::string& timecode, const std::string& value = "0.5", int channel = -1,
                 const std::string& special = "") {
   std::string r = timecode + ",61";
-  for (int k = 0; k < mpeg4face::kLiveLinkChannelCount; ++k) r += "," + (k == channel ? special : value);
+  for (int k = 0; k < mpeg4face::kLiveLinkChannelCount; ++k)
+    r += "," + (k == channel ? special : value);
   return r + "\n";
 }
 
-LiveLinkCapture parse(const std::string& text) { return mpeg4face::parseLiveLinkCsv(text, "t.csv"); }
+LiveLinkCapture parse(const std::string& text) {
+  return mpeg4face::parseLiveLinkCsv(text, "t.csv");
+}
 
 Error parseError(const std::string& text) {
   return errorOf([&] { parse(text); });
@@ -60,8 +63,14 @@ TEST(LiveLink, RealCapture) {
 
 TEST(LiveLink, FrameRateFromTheTimecodes) {
   // Crossing a second shows the rate: frames up to 29 -> 30 fps, up to 24 -> 25.
-  EXPECT_EQ(parse(header() + row("00:00:00:28.000") + row("00:00:00:29.000") + row("00:00:01:00.000")).frameRate, 30);
-  EXPECT_EQ(parse(header() + row("00:00:00:23.500") + row("00:00:00:24.500") + row("00:00:01:00.500")).frameRate, 25);
+  EXPECT_EQ(
+      parse(header() + row("00:00:00:28.000") + row("00:00:00:29.000") + row("00:00:01:00.000"))
+          .frameRate,
+      30);
+  EXPECT_EQ(
+      parse(header() + row("00:00:00:23.500") + row("00:00:00:24.500") + row("00:00:01:00.500"))
+          .frameRate,
+      25);
   EXPECT_EQ(parse(header() + row("00:00:00:58.000") + row("00:00:01:00.000")).frameRate, 60);
   // Within one second the rate cannot show: 60 in doubt, unless a frame number says more.
   EXPECT_EQ(parse(header() + row("00:00:05:01.000") + row("00:00:05:02.000")).frameRate, 60);

@@ -94,17 +94,18 @@ def test_the_expression_shapes_are_morph_targets_of_the_meshes_they_move(in_memo
     head, _ = in_memory
     eyes = {head.find_mesh("eye_left"), head.find_mesh("eye_right")}
     with np.load(ICT / "expressions.npz") as npz:
-        names = set(npz.files)
-        for i, mesh in enumerate(head.meshes):
-            moved = {n for n in names if np.any(npz[n][mesh.source_index])}
-            if i in eyes:  # ICT's eyeLook shapes move no eyeball; the sample turns it
-                side = "_L" if mesh.name == "eye_left" else "_R"
-                assert moved == {"PupilDilate" + side}
-                moved |= {look + side for look in ict_head.EYE_LOOKS}
-            assert {t.name for t in mesh.morph_targets} == moved, mesh.name
-            for t in mesh.morph_targets:
-                if i not in eyes or t.name.startswith("PupilDilate"):
-                    assert np.allclose(t.displacements, npz[t.name][mesh.source_index] * 0.01)
+        ict = {name: npz[name] for name in npz.files}
+    names = set(ict)
+    for i, mesh in enumerate(head.meshes):
+        moved = {n for n in names if np.any(ict[n][mesh.source_index])}
+        if i in eyes:  # ICT's eyeLook shapes move no eyeball; the sample turns it
+            side = "_L" if mesh.name == "eye_left" else "_R"
+            assert moved == {"PupilDilate" + side}
+            moved |= {look + side for look in ict_head.EYE_LOOKS}
+        assert {t.name for t in mesh.morph_targets} == moved, mesh.name
+        for t in mesh.morph_targets:
+            if i not in eyes or t.name.startswith("PupilDilate"):
+                assert np.allclose(t.displacements, ict[t.name][mesh.source_index] * 0.01)
     assert len(names) == 57
     assert {t.name for m in head.meshes for t in m.morph_targets} == names
 

@@ -22,9 +22,15 @@ inline constexpr int kLiveLinkWeightCount = 52;
 inline constexpr int kLiveLinkChannelCount = 61;
 // Column of an angle channel in LiveLinkCapture::values.
 enum LiveLinkAngle : int {
-  kHeadYaw = 52, kHeadPitch, kHeadRoll,
-  kLeftEyeYaw, kLeftEyePitch, kLeftEyeRoll,
-  kRightEyeYaw, kRightEyePitch, kRightEyeRoll
+  kHeadYaw = 52,
+  kHeadPitch,
+  kHeadRoll,
+  kLeftEyeYaw,
+  kLeftEyePitch,
+  kLeftEyeRoll,
+  kRightEyeYaw,
+  kRightEyePitch,
+  kRightEyeRoll
 };
 
 struct LiveLinkCapture {
