@@ -128,10 +128,19 @@ std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& fra
   const auto upper = lipPolygon(upperContour, sortedContour(model, frame, noseSides()));
   const auto lower = lipPolygon(lowerContour, sortedContour(model, frame, chinSides()));
   const auto slit = lipPolygon(upperContour, lowerContour);
+  // The box around the three polygons: most of a head is outside it.
+  Eigen::Vector2d lo = upper.front(), hi = lo;
+  for (const auto* polygon : {&upper, &lower}) {
+    for (const Eigen::Vector2d& v : *polygon) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+  }
   const Eigen::Index n = p.uv.rows();
   std::vector<LipRegion> lips(static_cast<std::size_t>(n), LipRegion::Outside);
   for (Eigen::Index r = 0; r < n; ++r) {
     const Eigen::Vector2d q = p.uv.row(r) + 0.1 * (centroid.row(r) - p.uv.row(r));
+    if ((q.array() < lo.array()).any() || (q.array() > hi.array()).any()) continue;
     LipRegion& lip = lips[static_cast<std::size_t>(r)];
     if (insidePolygon(upper, q)) {
       lip = LipRegion::Upper;
@@ -267,25 +276,23 @@ std::vector<int> featurePointTriangles() {
   return out;
 }
 
-// N(FP) of each row: the factors of the feature points' regions (motionFactors),
-// interpolated over the feature-point triangulation at the row's projected point (outside
-// it: the closest triangle's), so that they change gradually from region to region.
-Points3 regionFactors(const TriangleInterpolator& featurePoints, const Points2& uv,
-                      const FapuMeasurement& fapu) {
-  const auto ids = cloneFeaturePoints();
+// The normalisation factors of each required feature point's region (motionFactors).
+std::vector<Eigen::Vector3d> featurePointFactors(const FapuMeasurement& fapu) {
   std::vector<Eigen::Vector3d> factors;
-  for (std::string_view id : ids) factors.push_back(motionFactors(id, fapu));
-  Points3 out(uv.rows(), 3);
-  for (Eigen::Index r = 0; r < uv.rows(); ++r) {
-    const TriangleWeights w = featurePoints.locate(uv.row(r).transpose());
-    Eigen::Vector3d f = Eigen::Vector3d::Zero();
-    for (std::size_t k = 0; k < 3; ++k) {
-      f +=
-          w.weights[static_cast<Eigen::Index>(k)] * factors[static_cast<std::size_t>(w.corners[k])];
-    }
-    out.row(r) = f.transpose();
+  for (std::string_view id : cloneFeaturePoints()) factors.push_back(motionFactors(id, fapu));
+  return factors;
+}
+
+// N(FP) at a point located in the feature-point triangulation: the factors of the feature
+// points' regions interpolated (outside it: the closest triangle's), so that they change
+// gradually from region to region.
+Eigen::Vector3d regionFactors(const TriangleWeights& w,
+                              const std::vector<Eigen::Vector3d>& factors) {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < 3; ++k) {
+    f += w.weights[static_cast<Eigen::Index>(k)] * factors[static_cast<std::size_t>(w.corners[k])];
   }
-  return out;
+  return f;
 }
 
 }  // namespace
@@ -335,8 +342,16 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   const TriangleInterpolator alignment(fpTarget, fpTriangles);
 
   Mapping map;
-  map.sourceFactors = regionFactors(sourceFeatures, src.uv, sourceFapu);
-  map.targetFactors = regionFactors(alignment, tgt.uv, targetFapu);
+  map.sourceFactors.resize(src.uv.rows(), 3);
+  const auto sourceFactorsOf = featurePointFactors(sourceFapu);
+  for (Eigen::Index r = 0; r < src.uv.rows(); ++r) {
+    map.sourceFactors.row(r) =
+        regionFactors(sourceFeatures.locate(src.uv.row(r).transpose()), sourceFactorsOf)
+            .transpose();
+  }
+  // The target's, with its alignment below.
+  map.targetFactors = Points3::Zero(tgt.uv.rows(), 3);
+  const auto targetFactorsOf = featurePointFactors(targetFapu);
   const Points2 sourceCentroid = meanTriangleCentroid(src.uv, src.triangles);
   if (options.separateLips) {
     map.sourceLips = classifyLips(source, sourceFrame, src, sourceCentroid, sourceSurface);
@@ -368,6 +383,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     if (!used[static_cast<std::size_t>(t)]) continue;
     const Eigen::Vector2d p = tgt.uv.row(t);
     const TriangleWeights a = alignment.locate(p);
+    map.targetFactors.row(t) = regionFactors(a, targetFactorsOf).transpose();
     for (int k = 0; k < 3; ++k) {
       aligned.row(t) += a.weights[k] * fpMove.row(a.corners[static_cast<std::size_t>(k)]);
     }
@@ -386,7 +402,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     for (Eigen::Index t = 0; t < n; ++t) {
       if (!used[static_cast<std::size_t>(t)]) continue;
       const TriangleWeights w = own.locate(tgt.uv.row(t).transpose());
-      if (!w.inside) continue;
+      if (!w.overlap) continue;  // alone at its place: on the outer surface
       double top = 0;
       for (std::size_t k = 0; k < 3; ++k) {
         top += w.weights[static_cast<Eigen::Index>(k)] *
@@ -449,12 +465,13 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     const Eigen::Vector2d side = alignedCentroid.row(t).transpose();
     int same = samePlace.find(p, depth, SamePlace::kSame, side, otherLip, map.sourceLips);
     TriangleWeights centre;
+    const double below = belowTop[static_cast<std::size_t>(t)];
     if (same < 0) {
-      centre = motion.locate(p, excluded, belowTop[static_cast<std::size_t>(t)]);
+      centre = motion.locate(p, excluded, below);
       // Under the outer surface, where the source has no layer as deep here (a steep fold,
       // such as an eye socket's wall, covers little of the projection), the nearest source
       // vertex is the better match.
-      if (centre.triangle >= 0 && belowTop[static_cast<std::size_t>(t)] > 0) {
+      if (centre.triangle >= 0 && below > 0) {
         double there = 0;
         for (std::size_t k = 0; k < 3; ++k) {
           there += centre.weights[static_cast<Eigen::Index>(k)] *
@@ -491,7 +508,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     for (int k = 0; support > 0 && k < 6; ++k) {
       const double a = k * std::numbers::pi / 3;
       const Eigen::Vector2d q = p + 0.5 * support * Eigen::Vector2d(std::cos(a), std::sin(a));
-      addSample(motion.locate(q, excluded, belowTop[static_cast<std::size_t>(t)]), q, share);
+      addSample(motion.locate(q, excluded, below), q, share);
     }
     for (const auto& [s, weight] : entries) {
       map.source.push_back(s);

@@ -211,6 +211,7 @@ TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p, std::uint
         const Eigen::Vector3d b = weightsIn(t, p);
         if (b.minCoeff() < kOnEdge) continue;
         const double d = depthAt(t, b);
+        result.overlap = best >= 0;
         if (best < 0 || d < bestDepth || (d == bestDepth && t < best)) {
           best = t;
           bestDepth = d;

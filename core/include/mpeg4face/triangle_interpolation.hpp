@@ -29,7 +29,8 @@ struct TriangleWeights {
   int triangle = -1;                                  // -1: no triangle was eligible
   std::array<int, 3> corners{};                       // point indices
   Eigen::Vector3d weights = Eigen::Vector3d::Zero();  // sum 1
-  bool inside = false;  // false: the closest-triangle fallback was used
+  bool inside = false;   // false: the closest-triangle fallback was used
+  bool overlap = false;  // inside, and more than one eligible triangle held the point
 };
 
 class TriangleInterpolator {
