@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mpeg4face check`: the motion check (motion_check.hpp) of a head's shape keys and of FAP
 // streams played on it, as a summary a person reads at a glance or as JSON.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <functional>
@@ -236,10 +238,13 @@ int runCheck(const std::vector<std::string>& rawArgs) {
     streams.push_back(readFapStream(path));
     streams.back().name = std::filesystem::path(path).filename().string();
   }
+  // On a terminal one line rewritten; in a log a line per tenth.
+  const bool terminal = isatty(fileno(stderr));
   const MotionProgress progress = [&](std::size_t done, std::size_t total) {
-    if (done % 50 == 0 || done == total) {
-      std::fprintf(stderr, "\rcheck: %zu/%zu poses", done, total);
-      if (done == total) std::fprintf(stderr, "\n");
+    if (terminal && (done % 50 == 0 || done == total)) {
+      std::fprintf(stderr, "\rcheck: %zu/%zu poses%s", done, total, done == total ? "\n" : "");
+    } else if (!terminal && (done * 10 / total != (done - 1) * 10 / total || done == total)) {
+      std::fprintf(stderr, "check: %zu/%zu poses\n", done, total);
     }
   };
   MotionCheck check;

@@ -3,14 +3,17 @@
 fails the check, and selecting its offending vertices selects the chin in Edit Mode. Run
 through run_in_blender.py."""
 
+import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_blender.py)")
 
+import mpeg4face  # noqa: E402
+
 from mpeg4face_blender import check_logic, mesh_data, operators_check  # noqa: E402
 
 
-def test_check_and_select(candide_head):
+def test_check_and_select(candide_head, tmp_path):
     obj, _, fp_vertices = candide_head
     chin = fp_vertices["2.1"]
     obj.shape_key_add(name="Basis")
@@ -32,7 +35,18 @@ def test_check_and_select(candide_head):
         selected = mesh_data.selected_vertices(bm)
     assert chin in selected
     assert set(selected) == set(check_logic.offending_vertices(result, "keys", rows[0].index))
-    # Without a stream imported, "with the stream" says so instead of checking.
+    # Without a stream imported, "with the stream" says so instead of checking; with one,
+    # its frames are checked through the tables made from the keys.
     bpy.ops.object.mode_set(mode="OBJECT")
     with pytest.raises(RuntimeError, match="No stream imported"):
         bpy.ops.mpeg4face.check_motion(with_stream=True)
+    mask = np.zeros((2, 68), bool)
+    mask[1, 1] = True  # frame 1: expression 1 fully on
+    stream = mpeg4face.FapStream.from_arrays(
+        [0, 1], mask, np.zeros((2, 68), np.int32),
+        expressions=[[0, 0, 0, 0, 0, 0], [1, 63, 0, 0, 0, 0]])
+    mpeg4face.write_fap(stream, tmp_path / "pull.fap")
+    obj.mpeg4face_stream.filepath = str(tmp_path / "pull.fap")
+    assert bpy.ops.mpeg4face.check_motion(with_stream=True) == {"FINISHED"}
+    result = operators_check.results[obj.name]
+    assert [r.name for r in check_logic.worst(result, "frames")] == ["pull.fap frame 1"]
