@@ -85,17 +85,19 @@ def stamp_note(size: int) -> None:
 
 
 def save_sheet(paths: list[Path], out: Path, columns: int) -> None:
-    """The images (all of one size) tiled `columns` wide, in reading order, as a PNG written
-    through a .part name. Inside Blender: bpy loads and saves the images."""
+    """The images tiled `columns` wide, in reading order, each centred in a cell as large as
+    the largest, as a PNG written through a .part name. Inside Blender: bpy loads and saves
+    the images."""
     import bpy
     import numpy as np
 
     tiles = []
     for path in paths:
         image = bpy.data.images.load(str(path))
-        width, height = image.size
-        tiles.append(np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4))
+        w, h = image.size
+        tiles.append(np.array(image.pixels[:], dtype=np.float32).reshape(h, w, 4))
         bpy.data.images.remove(image)
+    height, width = max(t.shape[0] for t in tiles), max(t.shape[1] for t in tiles)
     gap = 6
     rows = -(-len(tiles) // columns)
     sheet = np.ones((rows * (height + gap) + gap, columns * (width + gap) + gap, 4),
@@ -103,8 +105,9 @@ def save_sheet(paths: list[Path], out: Path, columns: int) -> None:
     for i, tile in enumerate(tiles):
         # Blender's pixel rows run bottom to top: the first tile goes at the top.
         r, c = rows - 1 - i // columns, i % columns
-        y, x = gap + r * (height + gap), gap + c * (width + gap)
-        sheet[y:y + height, x:x + width] = tile
+        y = gap + r * (height + gap) + (height - tile.shape[0]) // 2
+        x = gap + c * (width + gap) + (width - tile.shape[1]) // 2
+        sheet[y:y + tile.shape[0], x:x + tile.shape[1]] = tile
     image = bpy.data.images.new("contact sheet", sheet.shape[1], sheet.shape[0], alpha=False)
     image.pixels.foreach_set(sheet.ravel())
     part = out.with_name(out.stem + ".part.png")

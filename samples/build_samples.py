@@ -66,6 +66,11 @@ DIRECTIONS = {
 SPECIFICITY = 0.35
 # ... and when the motion at that feature point is mostly along the FAP's direction.
 ALIGNMENT = 0.8
+# A fitting unit replaces the cloned keys of its FAP and sign only when its value is at least
+# this fraction of theirs: a stream sends values up to the source face's key (a capture's
+# sneer sends FAP 55 at -900), and a unit worth -75 driven there is 12 times itself, a
+# crumpled nose.
+COVERAGE = 0.5
 
 
 def candide3() -> mpeg4face.FaceModel:
@@ -182,6 +187,7 @@ class UnitMapping:
     key: str
     reason: str
     responses: dict[str, float]  # FAP number -> value at its feature point, the largest few
+    used: bool = True  # False: a cloned key of its FAP reaches much farther (COVERAGE)
 
 
 def fap_responses(head: mpeg4face.FaceModel, fapu: mpeg4face.FapuMeasurement,
@@ -280,14 +286,23 @@ def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
 def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
                        mappings: list[UnitMapping]) -> None:
     """A mapped unit stands for its FAP in its direction: the cloned keys of that FAP with
-    the same sign go."""
+    the same sign go, unless they reach much farther than the unit (COVERAGE; the unit is
+    then not used)."""
     for m in mappings:
         if not m.fap:
             continue
-        for name in list(keys):
-            parsed = mpeg4face.parse_shape_key_name(name)
-            if parsed["fap"] == m.fap and np.sign(parsed["amplitude"]) == np.sign(m.value):
-                del keys[name]
+        same = [name for name in keys
+                if (parsed := mpeg4face.parse_shape_key_name(name))["fap"] == m.fap
+                and np.sign(parsed["amplitude"]) == np.sign(m.value)]
+        reach = max((abs(mpeg4face.parse_shape_key_name(n)["amplitude"]) for n in same),
+                    default=0)
+        if abs(m.value) < COVERAGE * reach:
+            m.used = False
+            m.reason += (f"; not used: the cloned key reaches {reach}, the unit "
+                         f"{abs(m.value) / reach:.0%} of it (at least {COVERAGE:.0%})")
+            continue
+        for name in same:
+            del keys[name]
         keys[m.key] = units[m.unit]
 
 
@@ -406,7 +421,7 @@ def main(argv: list[str] | None = None) -> int:
     mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
     mpeg4face.write_file_atomically(args.out / "makehuman_units.json", (
         json.dumps([asdict(m) for m in mappings], indent=1) + "\n").encode())
-    mapped = [m for m in mappings if m.fap]
+    mapped = [m for m in mappings if m.fap and m.used]
     print(f"samples: makehuman_head.glb, {sum(m.vertex_count for m in head.meshes)} vertices in "
           f"{len(head.meshes)} meshes, {len(keys)} shape keys ({len(mapped)} of MakeHuman's "
           f"{len(mappings)} expression units), {len(head.animations)} poses")
