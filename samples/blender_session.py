@@ -111,8 +111,11 @@ def save_sheet(paths: list[Path], out: Path, columns: int) -> None:
     image = bpy.data.images.new("contact sheet", sheet.shape[1], sheet.shape[0], alpha=False)
     image.pixels.foreach_set(sheet.ravel())
     part = out.with_name(out.stem + ".part.png")
-    image.filepath_raw = str(part)
-    image.file_format = "PNG"
-    image.save()
+    # Saved as the scene's render output, 8-bit RGB at the highest compression: docs keep
+    # these sheets.
+    settings = bpy.context.scene.render.image_settings
+    settings.file_format, settings.color_mode, settings.color_depth = "PNG", "RGB", "8"
+    settings.compression = 100
+    image.save_render(str(part), scene=bpy.context.scene)
     bpy.data.images.remove(image)
     part.replace(out)

@@ -71,7 +71,11 @@ step "a real capture: Live Link Face's ARKit weights to FAPs, coded, on both hea
 capture=tests/data/livelink-face/MySlate_3_Jason_Millers_iPhone.csv
 "$cli" arkit to-fap "$capture" --face samples/build/ict_head.glb --fps 25 \
   -o "$out/capture.fap" >"$out/capture_to_fap.txt"
-tail -n 1 "$out/capture_to_fap.txt"
+converted() {  # "328 frames at 60 fps -> 137 frames at 25 fps" from what to-fap printed
+  sed -En 's/^.*: ([0-9]+ frames at [0-9.]+ fps) -> .*: ([0-9]+ frames at [0-9.]+ fps)$/\1 -> \2/p' \
+    "$out/capture_to_fap.txt"
+}
+echo "capture: $(converted)"
 "$cli" encode "$out/capture.fap" --mode dct --fap-quant "$fap_quant" \
   -o "$out/capture_dct.fba" | tee "$out/coding_capture.txt"
 "$cli" decode "$out/capture_dct.fba" -o "$out/capture_dct_decoded.fap" | tee -a "$out/coding_capture.txt"
@@ -103,7 +107,7 @@ demo: everything is in $out/
   preview/contact_sheet.png 12 frames across the sentence
   preview/preview.mp4       the frames and the sound as a video (H.264 + AAC)
   capture.fap               a real iPhone capture (tests/data/livelink-face) as FAPs, made on
-                            the ICT head ($(tail -n 1 "$out/capture_to_fap.txt"))
+                            the ICT head: $(converted)
   capture_dct.fba           coded in DCT mode, fap_quant $fap_quant: $(coded capture)
   capture_dct_decoded.fap   decoded;  coding_capture.txt: what encode printed
   capture_animated.glb      the MakeHuman head playing it (glTF animation)
