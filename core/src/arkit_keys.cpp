@@ -109,12 +109,26 @@ void addHighLevelKeys(ArkitKeys& out, const ArkitKeysOptions& options) {
       frames.emplace_back(formatShapeKeyName({2, e.number, 63, std::string(e.name)}), frame);
     }
   }
+  std::vector<std::pair<int, int>> reach(kFapCount, {0, 0});  // per FAP: the keys' amplitudes
+  for (const ArkitFapKey& key : out.mapping.keys) {
+    auto& [low, high] = reach[static_cast<std::size_t>(key.fap - 1)];
+    low = std::min(low, key.amplitude);
+    high = std::max(high, key.amplitude);
+  }
   std::vector<std::vector<MorphTarget>> added(out.head.meshes.size());
   std::vector<MorphWeightAnimation> poses;
   for (auto& [name, frame] : frames) {
     FapState state;
     applyFrame(state, frame);  // the left/right partners of what the preset gives
     FapFrame resolved = resolvedFrame(state);
+    // The shapes reach no further than the keys: a value past a key's amplitude is held at
+    // it, and one of a sign without a key is 0 (its table would run the shapes backwards).
+    for (int f = 3; f <= kFapCount; ++f) {
+      if (!resolved.has(f)) continue;
+      const int value = resolved.value(f);
+      const auto& [low, high] = reach[static_cast<std::size_t>(f - 1)];
+      resolved.set(f, std::clamp(value, low, high));
+    }
     const FatState shown = evaluator.evaluate(resolved);
     for (std::size_t m = 0; m < added.size(); ++m) {
       Points3 d = shown.coord[m] - neutral.coord[m];

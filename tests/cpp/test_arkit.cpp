@@ -282,8 +282,9 @@ TEST(Arkit, KeysAreInTheGrammarAndReplaceOldOnes) {
   EXPECT_TRUE(names.contains("fap12_raise_l_cornerlip@" +
                              std::to_string(findKey(keys.mapping, 12, 1)->amplitude)));
   EXPECT_FALSE(names.contains("fap3_open_jaw@100"));
-  EXPECT_TRUE(names.contains("viseme1"));
-  EXPECT_TRUE(names.contains("expression1_joy"));
+  EXPECT_TRUE(std::any_of(names.begin(), names.end(),
+                          [](const std::string& n) { return n.starts_with("viseme"); }));
+  EXPECT_TRUE(names.contains("expression6_surprise"));
   for (const MorphWeightAnimation& a : keys.head.animations) EXPECT_NE(a.name, "viseme1");
   // Ready for the tables: every FAP key reproduces its feature point's motion.
   const ShapeKeyFace face = faceFromShapeKeys(keys.head);
@@ -294,12 +295,12 @@ TEST(Arkit, VisemeKeysAreEachAloneFromTheNeutral) {
   const ArkitKeys keys = arkitFapKeys(arkitTestHeadWithShapes());
   const std::vector<MorphTarget>& targets = keys.head.meshes[0].morphTargets;
   const int chin = keys.head.featurePoints.at("2.1").vertex;
-  // The chin's motion per FAP unit in each FAP key, by FAP and sign.
-  std::map<std::pair<int, bool>, double> perUnit;
+  // The chin's motion in each FAP key, by FAP and sign: (amplitude, motion).
+  std::map<std::pair<int, bool>, std::pair<int, double>> keyed;
   for (const MorphTarget& t : targets) {
     const std::optional<ShapeKeyName> k = parseShapeKeyName(t.name);
     if (k && k->fapID >= 3)
-      perUnit[{k->fapID, k->amplitude > 0}] = t.displacements(chin, 1) / k->amplitude;
+      keyed[{k->fapID, k->amplitude > 0}] = {k->amplitude, t.displacements(chin, 1)};
   }
   const FitTable fit = visemeFitTable();
   int moving = 0;
@@ -312,12 +313,15 @@ TEST(Arkit, VisemeKeysAreEachAloneFromTheNeutral) {
     interpolateFitFrame(fit, frame);
     FapState state;
     applyFrame(state, frame);
+    // Each FAP through its key's linear table, held at the key's amplitude (the shapes reach
+    // no further), 0 on a side without a key.
     double expected = 0;
     for (int f = 3; f <= kFapCount; ++f) {
       if (!state.has(f) || state.value(f) == 0) continue;
-      auto it = perUnit.find({f, state.value(f) > 0});
-      if (it == perUnit.end()) it = perUnit.find({f, state.value(f) < 0});
-      if (it != perUnit.end()) expected += state.value(f) * it->second;
+      const auto it = keyed.find({f, state.value(f) > 0});
+      if (it == keyed.end()) continue;
+      const auto [amplitude, motion] = it->second;
+      expected += std::min(1.0, static_cast<double>(state.value(f)) / amplitude) * motion;
     }
     const std::string name = "viseme" + std::to_string(v);
     double moved = 0;

@@ -54,7 +54,7 @@ def test_keys_from_a_jaw_and_a_blink():
     assert "fap19_close_t_l_eyelid@853" in keys
     assert any(m["fap"] == 27 and m["reason"] for m in made["missed"])
     names = {t.name for t in made["head"].meshes[0].morph_targets}
-    assert {"fap3_open_jaw@341", "viseme1"} <= names
+    assert "fap3_open_jaw@341" in names and any(n.startswith("viseme") for n in names)
     # joy's FAPs (lip corners, lower lids) have no key here, so it has no key either
     assert "expression1_joy" not in names and "expression6_surprise" in names
     assert mpeg4face.generate_face(made["head"])["copies"] == len(names) - 2  # not the ARKit shapes

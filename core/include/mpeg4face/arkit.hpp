@@ -95,7 +95,9 @@ struct ArkitFapKey {
   int amplitude = 0;  // the FAP value the key shows, signed
   // (index into ArkitShapes::shapes, weight in 0..1), largest first.
   std::vector<std::pair<int, double>> weights;
-  // The feature point's motion along the FAP's direction / the amplitude's (1: exact).
+  // The share of the asked motion of the feature point along the FAP's direction that the
+  // least-squares combination gives (the key's weights are then scaled so that the point
+  // moves by the amplitude exactly).
   double reached = 1;
   // The other feature points' motion (and the FAP's own point's across its direction) that
   // the key brings and should not, as a root of summed squares, relative to the amplitude's
@@ -121,10 +123,12 @@ struct ArkitMapping {
 // bidirectional), the non-negative combination of the head's ARKit shapes that moves the
 // FAP's feature point along its direction by its amplitude while moving the other FAPs'
 // feature points least (NNLS per FAP; a left FAP uses no right-side shape and vice versa;
-// the eyeLook and pupil shapes are left to the eye FAPs); the amplitude is the largest the
-// shapes reach with every weight <= 1. Eyeball rotations 23..26 from the eyeLook shapes
-// when the eyeball is a mesh under its own Transform (Kabsch fit of the shape's motion);
-// pupils 29 / 30 from pupilDilate. Everything else is listed in `missed` with the reason.
+// the eyeLook and pupil shapes are left to the eye FAPs); the amplitude is as far as the
+// combination goes with every weight <= 1 (a shape that reaches 1 stays there while the
+// others carry on, as long as that stays clean). Eyeball rotations 23..26 from the eyeLook
+// shapes when the eyeball is a mesh under its own Transform (Kabsch fit of the shape's
+// motion, else ARKit's nominal angle); pupils 29 / 30 from pupilDilate. Everything else is
+// listed in `missed` with the reason. Rules and thresholds in docs/arkit.md.
 ArkitMapping mapArkitToFaps(const FaceModel& head, const ArkitShapes& shapes,
                             const FapuMeasurement& fapu);
 
