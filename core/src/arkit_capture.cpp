@@ -243,16 +243,16 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
   }
 
   // The FAP tables that fit: low-level, not the angle FAPs, moving some area mesh.
-  std::vector<const FaceDefTables*> tables;
+  std::vector<const FaceDefTables*> tables, angleTables;
   for (const FaceDefTables& t : out.face.faceDefTables) {
-    if (t.fapID < 3 || isAngleFap(t.fapID) || largestBorder(t) <= 0) continue;
+    if (t.fapID < 3 || largestBorder(t) <= 0) continue;
     bool movesArea = false;
     for (const FaceDefMesh& d : t.faceDefMesh) {
       if (moving[static_cast<std::size_t>(d.mesh)]) continue;
       movesArea = true;
       for (int v : d.coordIndex) addVertex(d.mesh, v);
     }
-    if (movesArea) tables.push_back(&t);
+    if (movesArea) (isAngleFap(t.fapID) ? angleTables : tables).push_back(&t);
   }
   out.fromTables = !tables.empty();
   // Without tables each FAP moves its own feature point (a vertex of the area meshes).
@@ -285,6 +285,7 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
   }
 
   const auto rows = static_cast<Eigen::Index>(3 * out.area.size());
+  Eigen::MatrixXd angleMotion(rows, 0);  // the angle FAPs' mesh motion (eyelids riding along)
   out.shapeMotion = Eigen::MatrixXd::Zero(rows, kLiveLinkWeightCount);
   for (std::size_t m = 0; m < head.meshes.size(); ++m) {
     if (moving[m]) continue;
@@ -305,32 +306,40 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
     const FatEvaluator evaluator(out.face, out.fapu);
     const FatState neutralState = evaluator.neutralState();
     FatState state = evaluator.neutralState();
-    std::vector<Eigen::VectorXd> columns;
-    for (const FaceDefTables* t : tables) {
-      const double amplitude = largestBorder(*t);
-      for (int sign : {1, -1}) {
-        if (sign < 0 && !fapInfo(t->fapID).bidirectional) continue;
-        FapFrame frame;
-        frame.set(t->fapID, sign * static_cast<int>(amplitude));
-        evaluator.evaluate(frame, state);
-        Eigen::VectorXd column = Eigen::VectorXd::Zero(rows);
-        for (std::size_t r = 0; r < out.area.size(); ++r) {
-          const auto [mesh, vertex] = out.area[r];
-          const auto ms = static_cast<std::size_t>(mesh);
-          column.segment<3>(3 * static_cast<Eigen::Index>(r)) =
-              world[ms].linear() *
-              (state.coord[ms].row(vertex) - neutralState.coord[ms].row(vertex)).transpose() /
-              amplitude;
+    // Each table's motion of the area per unit, at its outermost border on each side.
+    const auto columnsOf = [&](const std::vector<const FaceDefTables*>& list,
+                               std::vector<int>& faps, std::vector<int>& signs) {
+      std::vector<Eigen::VectorXd> columns;
+      for (const FaceDefTables* t : list) {
+        const double amplitude = largestBorder(*t);
+        for (int sign : {1, -1}) {
+          if (sign < 0 && !fapInfo(t->fapID).bidirectional) continue;
+          FapFrame frame;
+          frame.set(t->fapID, sign * static_cast<int>(amplitude));
+          evaluator.evaluate(frame, state);
+          Eigen::VectorXd column = Eigen::VectorXd::Zero(rows);
+          for (std::size_t r = 0; r < out.area.size(); ++r) {
+            const auto [mesh, vertex] = out.area[r];
+            const auto ms = static_cast<std::size_t>(mesh);
+            column.segment<3>(3 * static_cast<Eigen::Index>(r)) =
+                world[ms].linear() *
+                (state.coord[ms].row(vertex) - neutralState.coord[ms].row(vertex)).transpose() /
+                amplitude;
+          }
+          if (column.cwiseAbs().maxCoeff() <= 0) continue;
+          columns.push_back(std::move(column));
+          faps.push_back(t->fapID);
+          signs.push_back(sign);
         }
-        if (column.cwiseAbs().maxCoeff() <= 0) continue;
-        columns.push_back(std::move(column));
-        out.columnFap.push_back(t->fapID);
-        out.columnSign.push_back(sign);
       }
-    }
-    out.fapMotion.resize(rows, static_cast<Eigen::Index>(columns.size()));
-    for (std::size_t c = 0; c < columns.size(); ++c)
-      out.fapMotion.col(static_cast<Eigen::Index>(c)) = columns[c];
+      Eigen::MatrixXd motion(rows, static_cast<Eigen::Index>(columns.size()));
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        motion.col(static_cast<Eigen::Index>(c)) = columns[c];
+      }
+      return motion;
+    };
+    out.fapMotion = columnsOf(tables, out.columnFap, out.columnSign);
+    angleMotion = columnsOf(angleTables, out.angleColumnFap, out.angleColumnSign);
   } else {
     std::size_t count = 0;
     for (const DefinitionColumn& d : definition) count += fapInfo(d.fap).bidirectional ? 2 : 1;
@@ -354,6 +363,7 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
   out.fapGram = out.fapMotion.transpose() * out.fapMotion;
   out.fapGram.diagonal().array() += 1e-6 * out.fapGram.diagonal().mean();
   out.fapRhs = out.fapMotion.transpose() * out.shapeMotion;
+  out.angleRhs = out.fapMotion.transpose() * angleMotion;
   // FAP -> ARKit compares motion where the FAPs have any: everywhere with tables, at the
   // feature points without.
   Eigen::MatrixXd compared = out.shapeMotion;
@@ -403,7 +413,19 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
     weights = (1 - blend) * capture.values.row(source).transpose() +
               blend * capture.values.row(next).transpose();
 
+    // The angle FAPs first: what their tables move on the face area (lids following the
+    // eyes) is not asked of the others.
+    std::array<int, kFapCount> angleValue{};
+    for (const AngleFap& a : kAngleFaps) {
+      angleValue[static_cast<std::size_t>(a.fap - 1)] =
+          roundedFap(a.sign * weights[a.channel] / kAngleUnitRadians);
+    }
     b = face.fapRhs * weights.head(kLiveLinkWeightCount);
+    for (std::size_t c = 0; c < face.angleColumnFap.size(); ++c) {
+      const double v = face.angleColumnSign[c] *
+                       angleValue[static_cast<std::size_t>(face.angleColumnFap[c] - 1)];
+      if (v > 0) b -= v * face.angleRhs.col(static_cast<Eigen::Index>(c));
+    }
     std::fill(locked.begin(), locked.end(), false);
     boundedLeastSquares(face.fapGram, b, lower, upper, x, locked);
     // One side per FAP: where both sides came out positive the weaker is held at 0 (all
@@ -430,9 +452,8 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
       const int fap = face.columnFap[static_cast<std::size_t>(c)];
       frame.set(fap, roundedFap(value[static_cast<std::size_t>(fap - 1)]));
     }
-    for (const AngleFap& a : kAngleFaps) {
-      frame.set(a.fap, roundedFap(a.sign * weights[a.channel] / kAngleUnitRadians));
-    }
+    for (const AngleFap& a : kAngleFaps)
+      frame.set(a.fap, angleValue[static_cast<std::size_t>(a.fap - 1)]);
     if (options.progress && (f % 256 == 255 || f + 1 == frames)) options.progress(f + 1, frames);
   }
   return stream;

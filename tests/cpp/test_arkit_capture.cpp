@@ -60,7 +60,9 @@ std::vector<MorphTarget> arkitShapes() {
           {"browInnerUp_R", bump(-0.5, 2.5, 0.9, {0, 0.3, 0})}};
 }
 
-FaceModel syntheticHead(bool withKeys, bool withShapes = true) {
+// `lidsFollowPitch`: a key fap25@10000 (the left eye looking down) that moves the left upper
+// lid as EyeBlinkLeft at weight kKeyScale does.
+FaceModel syntheticHead(bool withKeys, bool withShapes = true, bool lidsFollowPitch = false) {
   mpeg4face::IndexedFaceSet mesh;
   mesh.name = "skin";
   mesh.coord.resize(kSide * kSide, 3);
@@ -84,6 +86,7 @@ FaceModel syntheticHead(bool withKeys, bool withShapes = true) {
     key("fap12@200", 3);
     key("fap31@200", 4);
     key("fap32@200", 5);
+    if (lidsFollowPitch) key("fap25@10000", 1);
   }
   FaceModel head;
   head.addMeshWithTransform(std::move(mesh));
@@ -203,6 +206,20 @@ TEST(ArkitCapture, AnglesToFapsAndBack) {
   for (int k = mpeg4face::kHeadYaw; k <= mpeg4face::kRightEyeRoll; ++k) {
     EXPECT_NEAR(back.values(0, k), c.values(0, k), 1e-9) << c.channels[static_cast<std::size_t>(k)];
   }
+}
+
+TEST(ArkitCapture, WhatTheAngleFapsMoveIsNotAskedOfTheOthers) {
+  const ArkitCaptureFace face = mpeg4face::prepareArkitCaptureFace(syntheticHead(true, true, true));
+  ASSERT_EQ(face.angleColumnFap.size(), 2u);  // FAP 25, both sides
+  LiveLinkCapture c = capture(2);
+  c.values.col(channel("EyeBlinkLeft")).setConstant(kKeyScale);
+  c.values.col(mpeg4face::kLeftEyePitch).setConstant(0.1);  // FAP 25 = 10000: the lid's motion
+  const FapStream s = mpeg4face::arkitCaptureToFaps(c, face, {60, {}});
+  EXPECT_EQ(s.frames[0].value(25), 10000);
+  EXPECT_NEAR(s.frames[0].value(19), 0, 1);
+  // Without the eye's turn the lid's motion is FAP 19's.
+  c.values.col(mpeg4face::kLeftEyePitch).setZero();
+  EXPECT_NEAR(mpeg4face::arkitCaptureToFaps(c, face, {60, {}}).frames[0].value(19), 300, 1);
 }
 
 TEST(ArkitCapture, FromFapsGivesTheWeightsBack) {

@@ -59,14 +59,13 @@ def table_motion(sample, evaluator, stream) -> np.ndarray:
     return np.array(out)
 
 
-def frame_errors(reference: np.ndarray, reproduced: np.ndarray) -> np.ndarray:
-    """Per frame where the face moves at least 1 mm: the mean over the face area of each
-    vertex's |error|, relative to the frame's peak motion (the largest vertex motion)."""
+def relative_errors(reference: np.ndarray, reproduced: np.ndarray) -> np.ndarray:
+    """(frames, vertices) over the frames where the face moves at least 1 mm: each vertex's
+    |error| relative to its frame's peak motion (the largest vertex motion)."""
     peak = np.linalg.norm(reference, axis=2).max(axis=1)
     moving = peak >= 1 * MM
     assert moving.sum() >= 10, "too few frames move the face"
-    error = np.linalg.norm(reproduced - reference, axis=2)[moving]
-    return error.mean(axis=1) / peak[moving]
+    return np.linalg.norm(reproduced - reference, axis=2)[moving] / peak[moving, None]
 
 
 def resampled_weights(capture, stream) -> np.ndarray:
@@ -103,18 +102,21 @@ def test_to_fap_follows_the_capture(sample):
 @needs_keys
 def test_round_trip_through_the_tables(sample):
     """ARKit weights -> FAP stream -> the ICT face's tables reproduce the capture's motion of
-    the face area: over the frames, the mean of the per-frame error (frame_errors) <= 15%
-    and its 95th percentile <= 30%."""
+    the face area: mean error <= 15% and p95 <= 30% of each frame's peak motion."""
     face = sample["face"]
     assert face.from_tables
     capture = sample["capture"]
     stream = mpeg4face.arkit_capture_to_faps(capture, face, fps=25)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(sample["head"])["face"])
     reference = shape_motion(sample, resampled_weights(capture, stream))
-    errors = frame_errors(reference, table_motion(sample, evaluator, stream))
-    print(f"round trip: mean {errors.mean():.3f}, p95 {np.percentile(errors, 95):.3f} of the "
-          f"frame's peak motion over {len(errors)} frames")
+    errors = relative_errors(reference, table_motion(sample, evaluator, stream))
+    per_frame = errors.mean(axis=1)
+    print(f"round trip over {len(errors)} frames: mean {errors.mean():.3f}; 95th percentile "
+          f"{np.percentile(per_frame, 95):.3f} of the frames' mean, "
+          f"{np.percentile(errors, 95):.3f} of all vertices' errors")
     assert errors.mean() <= 0.15
+    # Both readings of "p95": over the frames (each frame's mean) and over every vertex.
+    assert np.percentile(per_frame, 95) <= 0.30
     assert np.percentile(errors, 95) <= 0.30
 
 
@@ -131,7 +133,7 @@ def test_from_fap_on_the_xface_streams(sample):
         weights = capture.values[:, :52]
         assert weights.min() >= 0 and weights.max() <= 1, path.name
         reference = table_motion(sample, evaluator, stream)
-        errors = frame_errors(reference, shape_motion(sample, weights))
+        errors = relative_errors(reference, shape_motion(sample, weights))
         print(f"{path.name}: mean {errors.mean():.3f} of the peak motion")
         assert errors.mean() <= 0.20, path.name
 

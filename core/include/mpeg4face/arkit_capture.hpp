@@ -43,6 +43,11 @@ struct ArkitCaptureFace {
   // right-hand side per ARKit weight: per frame b = fapRhs * w, then bounded least squares.
   Eigen::MatrixXd fapGram;
   Eigen::MatrixXd fapRhs;
+  // The angle FAPs' (23-26, 48-50) tables move the area too (eyelids riding along with the
+  // eyes): their columns' pull K' K_angle, taken off b for the frame's angle values.
+  Eigen::MatrixXd angleRhs;
+  std::vector<int> angleColumnFap;
+  std::vector<int> angleColumnSign;
   // FAP -> ARKit: the normal equations of the ARKit shapes over the area.
   Eigen::MatrixXd shapeGram;
   std::vector<std::string> warnings;  // e.g. the ARKit shapes the face lacks, once
