@@ -111,11 +111,14 @@ def save_sheet(paths: list[Path], out: Path, columns: int) -> None:
     image = bpy.data.images.new("contact sheet", sheet.shape[1], sheet.shape[0], alpha=False)
     image.pixels.foreach_set(sheet.ravel())
     part = out.with_name(out.stem + ".part.png")
-    # Saved as the scene's render output, 8-bit RGB at the highest compression: docs keep
-    # these sheets.
-    settings = bpy.context.scene.render.image_settings
+    # Saved as the scene's render output, 8-bit RGB at the highest compression (docs keep
+    # these sheets), through the Standard view so the tiles' colours come back unchanged.
+    scene = bpy.context.scene
+    scene.view_settings.view_transform, scene.view_settings.look = "Standard", "None"
+    scene.view_settings.exposure, scene.view_settings.gamma = 0.0, 1.0
+    settings = scene.render.image_settings
     settings.file_format, settings.color_mode, settings.color_depth = "PNG", "RGB", "8"
     settings.compression = 100
-    image.save_render(str(part), scene=bpy.context.scene)
+    image.save_render(str(part), scene=scene)
     bpy.data.images.remove(image)
     part.replace(out)

@@ -357,12 +357,24 @@ def with_keys(head: mpeg4face.FaceModel, keys: Keys,
 def viseme_and_expression_keys(head: mpeg4face.FaceModel
                                ) -> tuple[Keys, list[mpeg4face.MorphWeightAnimation]]:
     """viseme1..14 and expression1..6 (at intensity 63): the FAP keys and poses evaluated
-    for the FAPs the viseme and expression FIT presets give each (docs/fit.md), as keys
+    for the FAPs the viseme and expression FIT presets give each (docs/fit.md), each held
+    within the amplitudes of its keys, as keys
     and, where the jaw or eyes move, poses of the same name. Each key is made alone from the
     neutral face, a stream of its own: in one stream a FAP one row sets would be held into
     the rows after it."""
     face = mpeg4face.generate_face(head)["face"]
     evaluator = mpeg4face.FatEvaluator(face)
+    # Each FAP held within its keys' amplitudes, as arkit_fap_keys does for the ICT head's
+    # viseme and expression keys (the source of this head's keys): past a key the table
+    # runs the cloned motion on linearly, and on a sign without a key backwards.
+    low = np.zeros(mpeg4face.FAP_COUNT, dtype=np.int32)
+    high = np.zeros(mpeg4face.FAP_COUNT, dtype=np.int32)
+    for name in {t.name for m in head.meshes for t in m.morph_targets} | {
+            a.name for a in head.animations}:
+        parsed = mpeg4face.parse_shape_key_name(name)
+        if parsed and parsed["fap"] >= 3:
+            f = parsed["fap"] - 1
+            low[f], high[f] = min(low[f], parsed["amplitude"]), max(high[f], parsed["amplitude"])
     neutral = evaluator.neutral()
     fits = [mpeg4face.fit_preset(p) for p in ("viseme", "expression")]
     no_faps = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
@@ -379,6 +391,9 @@ def viseme_and_expression_keys(head: mpeg4face.FaceModel
                                                  np.array([expression]))
         for fit in fits:
             stream = fit.interpolate(stream)
+        values = np.clip(stream.values, low, high).astype(np.int32)
+        stream = mpeg4face.FapStream.from_arrays([0], stream.mask, values,
+                                                 np.array([viseme]), np.array([expression]))
         state = evaluator.evaluate(stream, 0)
         keys[name] = [c - c0 for c, c0 in zip(state["coord"], neutral["coord"])]
         channels = [mpeg4face.TransformChannel(t, path, times=[0.0], values=state[field][t])
