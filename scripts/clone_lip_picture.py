@@ -82,7 +82,7 @@ def plot(before: pathlib.Path, after: pathlib.Path, out: pathlib.Path) -> None:
     margin = 0.35 * (left[0] - right[0])
     box = (right[0] - margin, left[0] + margin, chin[1] - 0.1 * margin, nose[1] + 0.3 * margin)
     faps = list(runs[1]["faps"])
-    fig, axes = plt.subplots(len(faps), 2, figsize=(7, 3.2 * len(faps)), dpi=110)
+    fig, axes = plt.subplots(len(faps), 2, figsize=(7, 3.2 * len(faps)), dpi=80)
     for row, fap in enumerate(faps):
         for col, (run, title) in enumerate(zip(runs, ("before", "after"))):
             motion = run["motion"][list(run["faps"]).index(fap)]

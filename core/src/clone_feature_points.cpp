@@ -42,6 +42,15 @@ constexpr std::array<std::string_view, 3> kTriangles[] = {
     {"2.14", "2.12", "8.4"}, {"2.11", "2.10", "2.1"}, {"2.1", "2.10", "2.12"},
     {"2.13", "2.11", "2.1"}, {"2.1", "2.12", "2.14"},
 };
+// The eye and mouth slits filled: for the normalisation factors, which are the same all
+// round each slit (one region), so a point inside a slit takes them and not those of a far
+// corner of the closest triangle by the paper's measure.
+constexpr std::array<std::string_view, 3> kSlitTriangles[] = {
+    {"3.7", "3.1", "3.11"}, {"3.7", "3.11", "3.3"}, {"3.12", "3.8", "3.2"},
+    {"3.12", "3.4", "3.8"}, {"2.4", "2.6", "2.2"},  {"2.2", "2.7", "2.5"},
+    {"2.4", "2.2", "2.5"},  {"2.4", "2.3", "2.8"},  {"2.3", "2.5", "2.9"},
+    {"2.4", "2.5", "2.3"},
+};
 // The triangulation's points, and so every FAPU's.
 constexpr std::string_view kRequired[] = {
     "2.1", "2.2", "2.3", "2.4", "2.5", "2.6", "2.7", "2.8", "2.9", "2.10", "2.11", "2.12",
@@ -65,6 +74,7 @@ constexpr std::string_view kChinSides[] = {"2.11", "2.12"};
 }  // namespace
 
 std::span<const std::array<std::string_view, 3>> alignmentTriangles() { return kTriangles; }
+std::span<const std::array<std::string_view, 3>> slitTriangles() { return kSlitTriangles; }
 std::span<const std::pair<std::string_view, LipRegion>> lipFeaturePoints() { return kLipPoints; }
 std::span<const std::string_view> upperLipContour() { return kUpperLip; }
 std::span<const std::string_view> lowerLipContour() { return kLowerLip; }

@@ -264,13 +264,17 @@ Points2 projectedFeaturePoints(const FaceModel& model, const FaceFrame& frame) {
   return uv;
 }
 
-// The alignment triangulation as rows of cloneFeaturePoints().
-std::vector<int> featurePointTriangles() {
+// The alignment triangulation as rows of cloneFeaturePoints(), with the slits filled if
+// `filled` (for the normalisation factors).
+std::vector<int> featurePointTriangles(bool filled) {
   const auto ids = cloneFeaturePoints();
   std::vector<int> out;
-  for (const auto& tri : alignmentTriangles()) {
-    for (std::string_view id : tri) {
-      out.push_back(static_cast<int>(std::find(ids.begin(), ids.end(), id) - ids.begin()));
+  for (const auto& part :
+       {alignmentTriangles(), filled ? slitTriangles() : decltype(slitTriangles()){}}) {
+    for (const auto& tri : part) {
+      for (std::string_view id : tri) {
+        out.push_back(static_cast<int>(std::find(ids.begin(), ids.end(), id) - ids.begin()));
+      }
     }
   }
   return out;
@@ -334,11 +338,12 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
 
   // The feature-point triangulation in each face's projection: the target's for the
   // alignment, both for the normalisation factors.
-  const std::vector<int> fpTriangles = featurePointTriangles();
+  const std::vector<int> fpTriangles = featurePointTriangles(false);
   const Points2 fpSource = projectedFeaturePoints(source, sourceFrame);
   const Points2 fpTarget = projectedFeaturePoints(target, targetFrame);
   const Points2 fpMove = fpSource - fpTarget;
-  const TriangleInterpolator sourceFeatures(fpSource, fpTriangles);
+  const TriangleInterpolator sourceFeatures(fpSource, featurePointTriangles(true));
+  const TriangleInterpolator targetFeatures(fpTarget, featurePointTriangles(true));
   const TriangleInterpolator alignment(fpTarget, fpTriangles);
 
   Mapping map;
@@ -383,7 +388,9 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     if (!used[static_cast<std::size_t>(t)]) continue;
     const Eigen::Vector2d p = tgt.uv.row(t);
     const TriangleWeights a = alignment.locate(p);
-    map.targetFactors.row(t) = regionFactors(a, targetFactorsOf).transpose();
+    // Inside the alignment triangulation the filled one agrees with it.
+    map.targetFactors.row(t) =
+        regionFactors(a.inside ? a : targetFeatures.locate(p), targetFactorsOf).transpose();
     for (int k = 0; k < 3; ++k) {
       aligned.row(t) += a.weights[k] * fpMove.row(a.corners[static_cast<std::size_t>(k)]);
     }
