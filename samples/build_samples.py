@@ -4,13 +4,19 @@
 
 - candide3.glb: CANDIDE-3 with its feature points and its MPEG-4 FAP units as morph
   targets named in the shape-key grammar (fap3_open_jaw@1000, ...).
+- ict_head.glb: the ICT-FaceKit head with its ARKit shapes and the FAP, viseme and
+  expression keys made from them (samples/ict_head.py, mpeg4face.arkit_fap_keys).
 - makehuman_head.glb: MakeHuman's head cut from the hm08 base mesh, with the eyes, teeth and
   tongue as meshes of their own under their own Transforms, its feature points, FAP shape
-  keys cloned from CANDIDE-3 (Facial Motion Cloning), MakeHuman's own expression units
-  where one fits a FAP (replacing the cloned key), and viseme and expression keys made from
-  the FAP keys through the viseme and expression FIT presets.
+  keys cloned from the ICT head's ARKit-derived FAP keys (Facial Motion Cloning),
+  MakeHuman's own expression units where one fits a FAP (replacing the cloned key), and
+  viseme and expression keys made from the FAP keys through the viseme and expression FIT
+  presets.
 - makehuman_units.json: how each expression unit was mapped (docs/samples.md).
-- ict_head.glb: the ICT-FaceKit head with its ARKit shapes (samples/ict_head.py).
+
+CANDIDE-3 (one vertex per FAP unit) is no longer the MakeHuman head's clone source: cloned
+onto a dense head each unit became a tent over CANDIDE's few mouth triangles (issue 19); it
+stays a sample and the tests' small clone source.
 
 Run with /usr/bin/python3 and the built module on PYTHONPATH (samples/build.sh does that).
 Every output is written to FILE.part and renamed, so a failed run leaves no half file.
@@ -60,6 +66,11 @@ DIRECTIONS = {
 SPECIFICITY = 0.35
 # ... and when the motion at that feature point is mostly along the FAP's direction.
 ALIGNMENT = 0.8
+# A fitting unit replaces the cloned keys of its FAP and sign only when its value is at least
+# this fraction of theirs: a stream sends values up to the source face's key (a capture's
+# sneer sends FAP 55 at -900), and a unit worth -75 driven there is 12 times itself, a
+# crumpled nose.
+COVERAGE = 0.5
 
 
 def candide3() -> mpeg4face.FaceModel:
@@ -176,6 +187,7 @@ class UnitMapping:
     key: str
     reason: str
     responses: dict[str, float]  # FAP number -> value at its feature point, the largest few
+    used: bool = True  # False: a cloned key of its FAP reaches much farther (COVERAGE)
 
 
 def fap_responses(head: mpeg4face.FaceModel, fapu: mpeg4face.FapuMeasurement,
@@ -224,7 +236,7 @@ def map_unit(name: str, vertices: int, held: int, responses: dict[int, tuple[flo
 
 
 # Cloned copies left out: the eyeballs are rigid parts here (their turns are poses below),
-# so CANDIDE's eye units (23-30, vertex motion on its one mesh) do not apply.
+# so the source's eyeball FAPs (23-30) are not cloned.
 EYEBALL_FAPS = range(23, 31)
 # Pose amplitudes: AU (1e-5 rad) for the eyeball and head rotations.
 EYE_POSE_AU = 20000
@@ -244,8 +256,27 @@ JAW_PARTS = ("teeth_lower", "tongue")
 Keys = dict[str, list[np.ndarray]]  # shape key name -> displacement per mesh
 
 
-def cloned_keys(candide: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
-    cloned = mpeg4face.clone_face(candide, head)
+def clone_source(ict: mpeg4face.FaceModel) -> mpeg4face.FaceModel:
+    """The ICT head with only its low-level FAP keys: not its ARKit shapes (not in the
+    grammar), viseme and expression keys (made again on the target from its own FAP keys,
+    each alone from the neutral) or poses (the eyeball turns: the target has its own)."""
+    def low_level(name: str) -> bool:
+        parsed = mpeg4face.parse_shape_key_name(name)
+        return bool(parsed) and parsed["fap"] >= 3 and parsed["fap"] not in EYEBALL_FAPS
+
+    meshes = ict.meshes
+    for mesh in meshes:
+        mesh.morph_targets = [t for t in mesh.morph_targets if low_level(t.name)]
+    ict.meshes = meshes
+    ict.animations = []
+    if not any(mesh.morph_targets for mesh in meshes):
+        raise SystemExit("samples: the ICT head has no FAP keys (the module lacks "
+                         "mpeg4face.arkit_fap_keys?)")
+    return ict
+
+
+def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
+    cloned = mpeg4face.clone_face(source, head)
     for warning in cloned["warnings"]:
         print(f"clone: {warning}", file=sys.stderr)
     return {c["name"]: c["displacements"] for c in cloned["copies"]
@@ -255,14 +286,23 @@ def cloned_keys(candide: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys
 def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
                        mappings: list[UnitMapping]) -> None:
     """A mapped unit stands for its FAP in its direction: the cloned keys of that FAP with
-    the same sign go."""
+    the same sign go, unless they reach much farther than the unit (COVERAGE; the unit is
+    then not used)."""
     for m in mappings:
         if not m.fap:
             continue
-        for name in list(keys):
-            parsed = mpeg4face.parse_shape_key_name(name)
-            if parsed["fap"] == m.fap and np.sign(parsed["amplitude"]) == np.sign(m.value):
-                del keys[name]
+        same = [name for name in keys
+                if (parsed := mpeg4face.parse_shape_key_name(name))["fap"] == m.fap
+                and np.sign(parsed["amplitude"]) == np.sign(m.value)]
+        reach = max((abs(mpeg4face.parse_shape_key_name(n)["amplitude"]) for n in same),
+                    default=0)
+        if abs(m.value) < COVERAGE * reach:
+            m.used = False
+            m.reason += (f"; not used: the cloned key reaches {reach}, the unit "
+                         f"{abs(m.value) / reach:.0%} of it (at least {COVERAGE:.0%})")
+            continue
+        for name in same:
+            del keys[name]
         keys[m.key] = units[m.unit]
 
 
@@ -317,12 +357,24 @@ def with_keys(head: mpeg4face.FaceModel, keys: Keys,
 def viseme_and_expression_keys(head: mpeg4face.FaceModel
                                ) -> tuple[Keys, list[mpeg4face.MorphWeightAnimation]]:
     """viseme1..14 and expression1..6 (at intensity 63): the FAP keys and poses evaluated
-    for the FAPs the viseme and expression FIT presets give each (docs/fit.md), as keys
+    for the FAPs the viseme and expression FIT presets give each (docs/fit.md), each held
+    within the amplitudes of its keys, as keys
     and, where the jaw or eyes move, poses of the same name. Each key is made alone from the
     neutral face, a stream of its own: in one stream a FAP one row sets would be held into
     the rows after it."""
     face = mpeg4face.generate_face(head)["face"]
     evaluator = mpeg4face.FatEvaluator(face)
+    # Each FAP held within its keys' amplitudes, as arkit_fap_keys does for the ICT head's
+    # viseme and expression keys (the source of this head's keys): past a key the table
+    # runs the cloned motion on linearly, and on a sign without a key backwards.
+    low = np.zeros(mpeg4face.FAP_COUNT, dtype=np.int32)
+    high = np.zeros(mpeg4face.FAP_COUNT, dtype=np.int32)
+    for name in {t.name for m in head.meshes for t in m.morph_targets} | {
+            a.name for a in head.animations}:
+        parsed = mpeg4face.parse_shape_key_name(name)
+        if parsed and parsed["fap"] >= 3:
+            f = parsed["fap"] - 1
+            low[f], high[f] = min(low[f], parsed["amplitude"]), max(high[f], parsed["amplitude"])
     neutral = evaluator.neutral()
     fits = [mpeg4face.fit_preset(p) for p in ("viseme", "expression")]
     no_faps = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
@@ -339,6 +391,9 @@ def viseme_and_expression_keys(head: mpeg4face.FaceModel
                                                  np.array([expression]))
         for fit in fits:
             stream = fit.interpolate(stream)
+        values = np.clip(stream.values, low, high).astype(np.int32)
+        stream = mpeg4face.FapStream.from_arrays([0], stream.mask, values,
+                                                 np.array([viseme]), np.array([expression]))
         state = evaluator.evaluate(stream, 0)
         keys[name] = [c - c0 for c, c0 in zip(state["coord"], neutral["coord"])]
         channels = [mpeg4face.TransformChannel(t, path, times=[0.0], values=state[field][t])
@@ -361,6 +416,9 @@ def main(argv: list[str] | None = None) -> int:
     mpeg4face.write_gltf(candide, args.out / "candide3.glb")
     print(f"samples: candide3.glb, {len(candide.meshes[0].morph_targets)} FAP units")
 
+    ict_head.main(["--out", str(args.out)])
+    ict = mpeg4face.read_gltf(args.out / "ict_head.glb")
+
     head = makehuman_neutral()
     fapu = mpeg4face.measure_fapu(head)
     mappings, units = [], {}
@@ -369,7 +427,7 @@ def main(argv: list[str] | None = None) -> int:
         units[path.stem], held = unit_displacements(head, vertices, offsets)
         mappings.append(map_unit(path.stem, len(vertices), held,
                                  fap_responses(head, fapu, units[path.stem])))
-    keys = cloned_keys(candide, head)
+    keys = cloned_keys(clone_source(ict), head)
     replace_with_units(keys, units, mappings)
     head = with_keys(head, keys, poses(head, keys))
     more_keys, more_poses = viseme_and_expression_keys(head)
@@ -378,11 +436,10 @@ def main(argv: list[str] | None = None) -> int:
     mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
     mpeg4face.write_file_atomically(args.out / "makehuman_units.json", (
         json.dumps([asdict(m) for m in mappings], indent=1) + "\n").encode())
-    mapped = [m for m in mappings if m.fap]
+    mapped = [m for m in mappings if m.fap and m.used]
     print(f"samples: makehuman_head.glb, {sum(m.vertex_count for m in head.meshes)} vertices in "
           f"{len(head.meshes)} meshes, {len(keys)} shape keys ({len(mapped)} of MakeHuman's "
           f"{len(mappings)} expression units), {len(head.animations)} poses")
-    ict_head.main(["--out", str(args.out)])
     return 0
 
 

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Builds samples/build/makehuman_head.blend from makehuman_head.glb, in the form the add-on
+"""Builds samples/build/makehuman_head.blend from makehuman_head.glb (and ict_head.blend from
+ict_head.glb), in the form the add-on
 works with (docs/blender.md): the skin as the head object, the eyelashes, eyes, teeth and
 tongue as its child objects, the feature points as FP_ vertex groups, every morph target as
 a shape key, and every pose as a timeline marker at whose frame the parts are keyed where
@@ -7,11 +8,14 @@ the pose puts them (the "neutral" marker first). Materials, a camera and a light
 ready to render.
 
     blender -b --factory-startup --python-exit-code 1 --python samples/make_blend.py -- \\
-        samples/build/makehuman_head.glb samples/build/makehuman_head.blend
+        samples/build/makehuman_head.glb samples/build/makehuman_head.blend [--name NAME]
+
+NAME is the head object's (default "MakeHuman head").
 """
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 from pathlib import Path
@@ -27,7 +31,6 @@ import numpy as np  # noqa: E402
 from mathutils import Matrix, Quaternion, Vector  # noqa: E402
 from mpeg4face_blender import fp_logic, poses  # noqa: E402
 
-HEAD_OBJECT = "MakeHuman head"
 NEUTRAL_FRAME = 1000  # poses after it, out of the way of an animation from frame 1
 COLOURS = {  # mesh -> base colour (linear RGB), roughness
     "skin": ((0.80, 0.55, 0.45), 0.55),
@@ -36,6 +39,7 @@ COLOURS = {  # mesh -> base colour (linear RGB), roughness
     "iris": ((0.10, 0.06, 0.03), 0.15),
     "teeth": ((0.90, 0.88, 0.80), 0.3),
     "tongue": ((0.65, 0.25, 0.25), 0.5),
+    "gums": ((0.65, 0.25, 0.25), 0.5),  # ICT's gums and tongue are one mesh
 }
 
 
@@ -87,14 +91,14 @@ def mesh_object(mesh: mpeg4face.IndexedFaceSet, name: str) -> bpy.types.Object:
     return obj
 
 
-def build(model: mpeg4face.FaceModel) -> bpy.types.Object:
+def build(model: mpeg4face.FaceModel, head_name: str) -> bpy.types.Object:
     head_transform = model.find_transform("head")
     objects: dict[int, bpy.types.Object] = {}  # mesh index -> object
     for t_index, transform in enumerate(model.transforms):
         for m_index in transform.meshes:
             mesh = model.meshes[m_index]
             is_skin = t_index == head_transform and m_index == transform.meshes[0]
-            objects[m_index] = mesh_object(mesh, HEAD_OBJECT if is_skin else mesh.name)
+            objects[m_index] = mesh_object(mesh, head_name if is_skin else mesh.name)
     head = objects[model.transforms[head_transform].meshes[0]]
     for t_index, transform in enumerate(model.transforms):
         local = blender_matrix(transform.translation, transform.rotation, transform.scale)
@@ -179,13 +183,15 @@ def stage(head: bpy.types.Object, model: mpeg4face.FaceModel) -> None:
 
 
 def main() -> None:
-    if len(ARGS) != 2:
-        raise SystemExit("usage: blender -b --factory-startup --python samples/make_blend.py -- "
-                         "HEAD.glb OUT.blend")
-    source, out = Path(ARGS[0]), Path(ARGS[1]).resolve()
+    parser = argparse.ArgumentParser(prog="make_blend.py")
+    parser.add_argument("source", type=Path, help="HEAD.glb")
+    parser.add_argument("out", type=Path, help="OUT.blend")
+    parser.add_argument("--name", default="MakeHuman head", help="the head object's name")
+    args = parser.parse_args(ARGS)
+    source, out = args.source, args.out.resolve()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     model = mpeg4face.read_gltf(source)
-    head = build(model)
+    head = build(model, args.name)
     stage(head, model)
     part = out.with_name(out.name + ".part.blend")
     bpy.ops.wm.save_as_mainfile(filepath=str(part), compress=True)

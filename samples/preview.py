@@ -25,18 +25,8 @@ ARGS = blender_session.start()
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
-from mpeg4face_blender import fp_logic  # noqa: E402
 
 SHEET_COLUMNS, SHEET_ROWS = 4, 3
-
-
-def head_object() -> bpy.types.Object:
-    """The scene's head: the root mesh object holding feature points."""
-    for obj in bpy.context.scene.objects:
-        if obj.type == "MESH" and obj.parent is None and any(
-                fp_logic.feature_point_of_group(g.name) for g in obj.vertex_groups):
-            return obj
-    raise SystemExit("preview: the scene has no head (a mesh with FP_ vertex groups)")
 
 
 def import_stream(head: bpy.types.Object, stream: Path) -> tuple[int, int]:
@@ -125,7 +115,7 @@ def main() -> None:
     for path in (args.stream, args.audio):
         if path is not None and not path.is_file():
             raise SystemExit(f"preview: {path}: no such file")
-    head = head_object()
+    head = blender_session.head_object()
     first, last = import_stream(head, args.stream.resolve())
     frames = args.out / "frames"
     shutil.rmtree(frames, ignore_errors=True)  # a second run starts clean

@@ -9,7 +9,10 @@
 #      encoded in predictive and DCT mode (bits/s and PSNR printed) and decoded
 #   4. the decoded stream previewed in Blender through the add-on: every frame rendered, a
 #      contact sheet and a video with the sound
-#   5. a summary of what was made and where.
+#   5. a real iPhone capture (Live Link Face's ARKit weights) converted to a FAP stream on the
+#      ICT head, encoded (bits/s and PSNR printed), decoded and played on the MakeHuman head;
+#      a few of its frames side by side on both heads (contact sheet)
+#   6. a summary of what was made and where.
 # Everything goes to MPEG4FACE_DEMO_OUT (default out/demo/); running it again redoes it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -64,6 +67,30 @@ if ! blender -b samples/build/makehuman_head.blend --python-exit-code 1 \
   exit 1
 fi
 
+step "a real capture: Live Link Face's ARKit weights to FAPs, coded, on both heads"
+capture=tests/data/livelink-face/MySlate_3_Jason_Millers_iPhone.csv
+"$cli" arkit to-fap "$capture" --face samples/build/ict_head.glb --fps 25 \
+  -o "$out/capture.fap" >"$out/capture_to_fap.txt"
+converted() {  # "328 frames at 60 fps -> 137 frames at 25 fps" from what to-fap printed
+  sed -En 's/^.*: ([0-9]+ frames at [0-9.]+ fps) -> .*: ([0-9]+ frames at [0-9.]+ fps)$/\1 -> \2/p' \
+    "$out/capture_to_fap.txt"
+}
+echo "capture: $(converted)"
+"$cli" encode "$out/capture.fap" --mode dct --fap-quant "$fap_quant" \
+  -o "$out/capture_dct.fba" | tee "$out/coding_capture.txt"
+"$cli" decode "$out/capture_dct.fba" -o "$out/capture_dct_decoded.fap" | tee -a "$out/coding_capture.txt"
+"$cli" apply "$out/makehuman_head.wrl" "$out/capture_dct.fba" -o "$out/capture_animated.glb" >/dev/null
+# Six frames: the capture on the ICT head through its ARKit shapes | the decoded stream on the
+# ICT head through its tables | on the MakeHuman head (Blender, the add-on's live preview).
+if ! blender -b samples/build/ict_head.blend --python-exit-code 1 \
+    --python samples/capture_sheet.py -- "$capture" "$out/capture_dct_decoded.fap" \
+    samples/build/makehuman_head.blend "$out/capture_sheet.png" --rows 6 --resolution 520 \
+    >"$out/capture_sheet.log" 2>&1; then
+  tail -n 40 "$out/capture_sheet.log"
+  exit 1
+fi
+grep '^capture_sheet:' "$out/capture_sheet.log"
+
 step "summary ($((SECONDS - started)) s)"
 tee "$out/summary.txt" <<EOF
 demo: everything is in $out/
@@ -79,6 +106,13 @@ demo: everything is in $out/
   preview/frames/           every frame rendered in Blender ($(ls "$out/preview/frames" | wc -l) PNGs)
   preview/contact_sheet.png 12 frames across the sentence
   preview/preview.mp4       the frames and the sound as a video (H.264 + AAC)
-The head itself: samples/build/makehuman_head.blend (open it in Blender with the add-on,
-scripts/install_blender_addon.sh) and makehuman_head.glb; docs/user-guide.md explains it all.
+  capture.fap               a real iPhone capture (tests/data/livelink-face) as FAPs, made on
+                            the ICT head: $(converted)
+  capture_dct.fba           coded in DCT mode, fap_quant $fap_quant: $(coded capture)
+  capture_dct_decoded.fap   decoded;  coding_capture.txt: what encode printed
+  capture_animated.glb      the MakeHuman head playing it (glTF animation)
+  capture_sheet.png         6 frames: the capture on ICT (its ARKit shapes) | the decoded
+                            FAPs on ICT | on MakeHuman (through their tables)
+The heads: samples/build/makehuman_head.blend and ict_head.blend (open them in Blender with the
+add-on, scripts/install_blender_addon.sh) and their .glb; docs/user-guide.md explains it all.
 EOF

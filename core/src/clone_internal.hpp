@@ -16,8 +16,15 @@
 
 namespace mpeg4face::clone {
 
+enum class LipRegion : unsigned char { Outside = 0, Upper = 1, Lower = 2 };
+
 // --- clone_feature_points.cpp: the fixed feature-point triangulation and lip polygons.
 std::span<const std::array<std::string_view, 3>> alignmentTriangles();
+// Triangles that fill the eye and mouth slits (the normalisation factors only).
+std::span<const std::array<std::string_view, 3>> slitTriangles();
+// The lip feature points and the lip each belongs to; the corners (2.4, 2.5, 8.3, 8.4)
+// belong to both lips and so are Outside.
+std::span<const std::pair<std::string_view, LipRegion>> lipFeaturePoints();
 // Inner upper / lower lip contour (sorted along the mouth when used), then the nose / chin
 // sides that close the polygon.
 std::span<const std::string_view> upperLipContour();
@@ -49,8 +56,6 @@ struct Surface {
   std::vector<int> firstRow;               // per mesh: its first row, -1 when excluded
 };
 Surface gatherSurface(const FaceModel& model, std::span<const int> excludedMeshes);
-
-enum class LipRegion : unsigned char { Outside = 0, Upper = 1, Lower = 2 };
 
 // Target motion (normalised) = sum over row's entries of weight * source motion (normalised).
 struct Mapping {

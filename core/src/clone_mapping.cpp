@@ -5,6 +5,7 @@
 // per target vertex so that each copy costs one sparse product. docs/clone.md.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "clone_internal.hpp"
@@ -63,50 +64,99 @@ bool insidePolygon(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector
   return inside;
 }
 
-// The lip contour along the mouth (by u, so that a face's left / right labels do not
-// matter), then the two closing points back the other way.
-std::vector<Eigen::Vector2d> lipPolygon(const FaceModel& model, const FaceFrame& frame,
-                                        std::span<const std::string_view> contour,
-                                        std::span<const std::string_view> sides) {
-  std::vector<Eigen::Vector2d> poly, back;
-  for (std::string_view id : contour) poly.push_back(projectedPoint(model, frame, id));
-  for (std::string_view id : sides) back.push_back(projectedPoint(model, frame, id));
-  const auto byU = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() < b.x(); };
-  std::sort(poly.begin(), poly.end(), byU);
-  std::sort(back.begin(), back.end(), [&](const auto& a, const auto& b) { return byU(b, a); });
-  poly.insert(poly.end(), back.begin(), back.end());
-  return poly;
+// A contour's projected points sorted along the mouth (by u, so that a face's left / right
+// labels do not matter).
+std::vector<Eigen::Vector2d> sortedContour(const FaceModel& model, const FaceFrame& frame,
+                                           std::span<const std::string_view> ids) {
+  std::vector<Eigen::Vector2d> points;
+  for (std::string_view id : ids) points.push_back(projectedPoint(model, frame, id));
+  std::sort(points.begin(), points.end(),
+            [](const auto& a, const auto& b) { return a.x() < b.x(); });
+  return points;
+}
+
+// The lip contour along the mouth, then the closing points back the other way.
+std::vector<Eigen::Vector2d> lipPolygon(std::vector<Eigen::Vector2d> contour,
+                                        std::vector<Eigen::Vector2d> back) {
+  std::reverse(back.begin(), back.end());
+  contour.insert(contour.end(), back.begin(), back.end());
+  return contour;
+}
+
+// v of a contour sorted by u, linear between its points, held beyond its ends.
+double contourHeight(const std::vector<Eigen::Vector2d>& contour, double u) {
+  if (u <= contour.front().x()) return contour.front().y();
+  for (std::size_t i = 1; i < contour.size(); ++i) {
+    const Eigen::Vector2d &a = contour[i - 1], &b = contour[i];
+    if (u <= b.x())
+      return b.x() > a.x() ? a.y() + (u - a.x()) / (b.x() - a.x()) * (b.y() - a.y()) : b.y();
+  }
+  return contour.back().y();
+}
+
+// Each point's mean of the centroids of the triangles it is a corner of (itself when on none):
+// the side of the point its surface lies on.
+Points2 meanTriangleCentroid(const Points2& uv, std::span<const int> triangles) {
+  Points2 sum = Points2::Zero(uv.rows(), 2);
+  std::vector<int> count(static_cast<std::size_t>(uv.rows()), 0);
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Eigen::RowVector2d c =
+        (uv.row(triangles[t]) + uv.row(triangles[t + 1]) + uv.row(triangles[t + 2])) / 3;
+    for (std::size_t k = 0; k < 3; ++k) {
+      sum.row(triangles[t + k]) += c;
+      ++count[static_cast<std::size_t>(triangles[t + k])];
+    }
+  }
+  for (Eigen::Index r = 0; r < uv.rows(); ++r) {
+    const int c = count[static_cast<std::size_t>(r)];
+    sum.row(r) = c > 0 ? Eigen::RowVector2d(sum.row(r) / c) : Eigen::RowVector2d(uv.row(r));
+  }
+  return sum;
 }
 
 // Upper and lower lip vertices coincide on a closed mouth, so a vertex is classified at a
 // point nudged a tenth of the way towards the mean centroid of its triangles: that side of
-// the contour is the lip it belongs to.
+// the contour is the lip it belongs to. A point in the mouth slit (an open mouth's, or one
+// nudged into it) belongs to the nearer inner contour. The lip feature points are the lip
+// the standard says, the corners neither (lipFeaturePoints): a corner's triangles belong
+// to the lip of their other corners.
 std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& frame,
-                                    const Projected& p) {
-  const auto upper = lipPolygon(model, frame, upperLipContour(), noseSides());
-  const auto lower = lipPolygon(model, frame, lowerLipContour(), chinSides());
-  const Eigen::Index n = p.uv.rows();
-  Points2 sum = Points2::Zero(n, 2);
-  std::vector<int> count(static_cast<std::size_t>(n), 0);
-  for (std::size_t t = 0; t < p.triangles.size(); t += 3) {
-    const Eigen::RowVector2d c =
-        (p.uv.row(p.triangles[t]) + p.uv.row(p.triangles[t + 1]) + p.uv.row(p.triangles[t + 2])) /
-        3;
-    for (int k = 0; k < 3; ++k) {
-      sum.row(p.triangles[t + static_cast<std::size_t>(k)]) += c;
-      ++count[static_cast<std::size_t>(p.triangles[t + static_cast<std::size_t>(k)])];
+                                    const Projected& p, const Points2& centroid,
+                                    const Surface& surface) {
+  const auto upperContour = sortedContour(model, frame, upperLipContour());
+  const auto lowerContour = sortedContour(model, frame, lowerLipContour());
+  const auto upper = lipPolygon(upperContour, sortedContour(model, frame, noseSides()));
+  const auto lower = lipPolygon(lowerContour, sortedContour(model, frame, chinSides()));
+  const auto slit = lipPolygon(upperContour, lowerContour);
+  // The box around the three polygons: most of a head is outside it.
+  Eigen::Vector2d lo = upper.front(), hi = lo;
+  for (const auto* polygon : {&upper, &lower}) {
+    for (const Eigen::Vector2d& v : *polygon) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
     }
   }
+  const Eigen::Index n = p.uv.rows();
   std::vector<LipRegion> lips(static_cast<std::size_t>(n), LipRegion::Outside);
   for (Eigen::Index r = 0; r < n; ++r) {
-    Eigen::Vector2d q = p.uv.row(r);
-    const int c = count[static_cast<std::size_t>(r)];
-    if (c > 0) q += 0.1 * (sum.row(r).transpose() / c - q);
+    const Eigen::Vector2d q = p.uv.row(r) + 0.1 * (centroid.row(r) - p.uv.row(r));
+    if ((q.array() < lo.array()).any() || (q.array() > hi.array()).any()) continue;
+    LipRegion& lip = lips[static_cast<std::size_t>(r)];
     if (insidePolygon(upper, q)) {
-      lips[static_cast<std::size_t>(r)] = LipRegion::Upper;
+      lip = LipRegion::Upper;
     } else if (insidePolygon(lower, q)) {
-      lips[static_cast<std::size_t>(r)] = LipRegion::Lower;
+      lip = LipRegion::Lower;
+    } else if (insidePolygon(slit, q)) {
+      const double middle =
+          0.5 * (contourHeight(upperContour, q.x()) + contourHeight(lowerContour, q.x()));
+      lip = q.y() >= middle ? LipRegion::Upper : LipRegion::Lower;
     }
+  }
+  for (const auto& [id, lip] : lipFeaturePoints()) {
+    const auto it = model.featurePoints.find(std::string(id));
+    if (it == model.featurePoints.end() || it->second.mesh < 0) continue;
+    const int first = surface.firstRow[static_cast<std::size_t>(it->second.mesh)];
+    if (first >= 0) lips[static_cast<std::size_t>(first + it->second.vertex)] = lip;
   }
   return lips;
 }
@@ -132,40 +182,121 @@ std::vector<double> meanEdgeLength(const Points2& uv, std::span<const int> trian
   return sum;
 }
 
-// The filter's support at a target point whose edges are `targetEdge` long where the source's
-// are `sourceEdge` long (CloneOptions::adaptiveFilter).
-double filterSupportAt(const CloneOptions& options, double targetEdge, double sourceEdge) {
-  if (!options.adaptiveFilter) return options.filterSupport;
-  constexpr double kNone = 1.25, kFull = 2.0;  // target / source edge length
-  if (!(sourceEdge > 0)) return 0;
-  const double ramp = std::clamp((targetEdge / sourceEdge - kNone) / (kFull - kNone), 0.0, 1.0);
-  return ramp * options.filterSupport;
+// The filter's support at a target point whose edges are `targetEdge` long where the
+// source's are `sourceEdge` long, `featureDistance` from the nearest feature point: the
+// antialiasing support where the target samples more coarsely (CloneOptions::adaptiveFilter),
+// the smoothing one where it samples more finely (CloneOptions::smoothSupport).
+double filterSupportAt(const CloneOptions& options, double targetEdge, double sourceEdge,
+                       double featureDistance) {
+  // Ramps of the edge-length ratio: antialiasing from 1.25 (two versions of one mesh differ
+  // that much locally) to 2; smoothing only where the source is much coarser, from 3 to 6
+  // (a dense source's piecewise-linear motion is smooth enough on a finer target, and
+  // smoothing it would only blur it).
+  const auto ramp = [](double ratio, double none, double full) {
+    return std::clamp((ratio - none) / (full - none), 0.0, 1.0);
+  };
+  double support = options.adaptiveFilter ? 0 : options.filterSupport;
+  if (!(sourceEdge > 0) || !(targetEdge > 0)) return support;
+  if (options.adaptiveFilter) {
+    support = ramp(targetEdge / sourceEdge, 1.25, 2.0) * options.filterSupport;
+  }
+  const double smooth = ramp(sourceEdge / targetEdge, 3.0, 6.0) *
+                        std::min(options.smoothSupport * sourceEdge, featureDistance);
+  return std::max(support, smooth);
 }
 
-// N(FP) of each row: the factors of the region of its nearest required feature point.
-Points3 regionFactors(const FaceModel& model, const Surface& s, const FapuMeasurement& fapu) {
-  const auto ids = cloneFeaturePoints();
-  std::vector<Eigen::Vector3d> points;
-  std::vector<Eigen::Vector3d> factors;
-  for (std::string_view id : ids) {
-    points.push_back(*model.featurePointPosition(std::string(id)));
-    factors.push_back(motionFactors(id, fapu));
+// Finds the source vertex at a target point's place (alignment space and depth), for the
+// exact motion of coincident vertices.
+class SamePlace {
+ public:
+  SamePlace(const Projected& source, const Points2& centroid)
+      : source_(source), centroid_(centroid) {
+    std::vector<bool> used(static_cast<std::size_t>(source.uv.rows()), false);
+    for (int corner : source.triangles) used[static_cast<std::size_t>(corner)] = true;
+    for (Eigen::Index r = 0; r < source.uv.rows(); ++r) {
+      if (used[static_cast<std::size_t>(r)]) byU_.push_back(static_cast<int>(r));
+    }
+    std::sort(byU_.begin(), byU_.end(),
+              [&](int a, int b) { return source.uv(a, 0) < source.uv(b, 0); });
   }
-  Points3 out(s.positions.rows(), 3);
-  for (Eigen::Index r = 0; r < s.positions.rows(); ++r) {
-    const Eigen::Vector3d v = s.positions.row(r);
-    std::size_t best = 0;
-    double bestD = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const double d = (points[i] - v).squaredNorm();
-      if (d < bestD) {
+  // The source row nearest to (p, depth) within `radius` (alignment space and depth), -1 if
+  // none; of several at one place (a closed mouth's lips, a mesh split along a seam), the one
+  // not of lip `excluded` whose triangles lie on the side of `centroid` (the target point's
+  // mean triangle centroid).
+  int find(const Eigen::Vector2d& p, double depth, double radius, const Eigen::Vector2d& centroid,
+           LipRegion excluded, const std::vector<LipRegion>& lips) const {
+    auto it = std::lower_bound(byU_.begin(), byU_.end(), p.x() - radius,
+                               [&](int r, double u) { return source_.uv(r, 0) < u; });
+    int best = -1;
+    double bestD = std::numeric_limits<double>::infinity(), bestSide = bestD;
+    for (; it != byU_.end() && source_.uv(*it, 0) <= p.x() + radius; ++it) {
+      const auto r = static_cast<std::size_t>(*it);
+      if (excluded != LipRegion::Outside && lips[r] == excluded) continue;
+      double d = Eigen::Vector3d(source_.uv(*it, 0) - p.x(), source_.uv(*it, 1) - p.y(),
+                                 source_.depth[r] - depth)
+                     .norm();
+      if (d > radius) continue;
+      if (d <= kSame) d = 0;
+      const double side = (centroid_.row(*it).transpose() - centroid).squaredNorm();
+      if (d < bestD || (d == bestD && side < bestSide)) {
         bestD = d;
-        best = i;
+        bestSide = side;
+        best = *it;
       }
     }
-    out.row(r) = factors[best].transpose();
+    return best;
+  }
+  static constexpr double kSame = 1e-9;  // alignment units: a face is about 3 wide
+
+ private:
+  const Projected& source_;
+  const Points2& centroid_;
+  std::vector<int> byU_;
+};
+
+// The required feature points' projected points, in cloneFeaturePoints() order.
+Points2 projectedFeaturePoints(const FaceModel& model, const FaceFrame& frame) {
+  const auto ids = cloneFeaturePoints();
+  Points2 uv(static_cast<Eigen::Index>(ids.size()), 2);
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    uv.row(static_cast<Eigen::Index>(i)) = projectedPoint(model, frame, ids[i]);
+  }
+  return uv;
+}
+
+// The alignment triangulation as rows of cloneFeaturePoints(), with the slits filled if
+// `filled` (for the normalisation factors).
+std::vector<int> featurePointTriangles(bool filled) {
+  const auto ids = cloneFeaturePoints();
+  std::vector<int> out;
+  for (const auto& part :
+       {alignmentTriangles(), filled ? slitTriangles() : decltype(slitTriangles()){}}) {
+    for (const auto& tri : part) {
+      for (std::string_view id : tri) {
+        out.push_back(static_cast<int>(std::find(ids.begin(), ids.end(), id) - ids.begin()));
+      }
+    }
   }
   return out;
+}
+
+// The normalisation factors of each required feature point's region (motionFactors).
+std::vector<Eigen::Vector3d> featurePointFactors(const FapuMeasurement& fapu) {
+  std::vector<Eigen::Vector3d> factors;
+  for (std::string_view id : cloneFeaturePoints()) factors.push_back(motionFactors(id, fapu));
+  return factors;
+}
+
+// N(FP) at a point located in the feature-point triangulation: the factors of the feature
+// points' regions interpolated (outside it: the closest triangle's), so that they change
+// gradually from region to region.
+Eigen::Vector3d regionFactors(const TriangleWeights& w,
+                              const std::vector<Eigen::Vector3d>& factors) {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < 3; ++k) {
+    f += w.weights[static_cast<Eigen::Index>(k)] * factors[static_cast<std::size_t>(w.corners[k])];
+  }
+  return f;
 }
 
 }  // namespace
@@ -205,34 +336,36 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   const Projected src = projectSurface(sourceSurface, sourceFrame);
   const Projected tgt = projectSurface(targetSurface, targetFrame);
 
+  // The feature-point triangulation in each face's projection: the target's for the
+  // alignment, both for the normalisation factors.
+  const std::vector<int> fpTriangles = featurePointTriangles(false);
+  const Points2 fpSource = projectedFeaturePoints(source, sourceFrame);
+  const Points2 fpTarget = projectedFeaturePoints(target, targetFrame);
+  const Points2 fpMove = fpSource - fpTarget;
+  const TriangleInterpolator sourceFeatures(fpSource, featurePointTriangles(true));
+  const TriangleInterpolator targetFeatures(fpTarget, featurePointTriangles(true));
+  const TriangleInterpolator alignment(fpTarget, fpTriangles);
+
   Mapping map;
-  map.sourceFactors = regionFactors(source, sourceSurface, sourceFapu);
-  map.targetFactors = regionFactors(target, targetSurface, targetFapu);
+  map.sourceFactors.resize(src.uv.rows(), 3);
+  const auto sourceFactorsOf = featurePointFactors(sourceFapu);
+  for (Eigen::Index r = 0; r < src.uv.rows(); ++r) {
+    map.sourceFactors.row(r) =
+        regionFactors(sourceFeatures.locate(src.uv.row(r).transpose()), sourceFactorsOf)
+            .transpose();
+  }
+  // The target's, with its alignment below.
+  map.targetFactors = Points3::Zero(tgt.uv.rows(), 3);
+  const auto targetFactorsOf = featurePointFactors(targetFapu);
+  const Points2 sourceCentroid = meanTriangleCentroid(src.uv, src.triangles);
   if (options.separateLips) {
-    map.sourceLips = classifyLips(source, sourceFrame, src);
-    map.targetLips = classifyLips(target, targetFrame, tgt);
+    map.sourceLips = classifyLips(source, sourceFrame, src, sourceCentroid, sourceSurface);
+    map.targetLips = classifyLips(target, targetFrame, tgt,
+                                  meanTriangleCentroid(tgt.uv, tgt.triangles), targetSurface);
   } else {
     map.sourceLips.assign(static_cast<std::size_t>(src.uv.rows()), LipRegion::Outside);
     map.targetLips.assign(static_cast<std::size_t>(tgt.uv.rows()), LipRegion::Outside);
   }
-
-  // Alignment: the target's feature points go onto the source's; every other target point
-  // moves by the displacement interpolated on the fixed triangulation.
-  const auto ids = cloneFeaturePoints();
-  Points2 fpTarget(static_cast<Eigen::Index>(ids.size()), 2);
-  Points2 fpMove(static_cast<Eigen::Index>(ids.size()), 2);
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    const auto row = static_cast<Eigen::Index>(i);
-    fpTarget.row(row) = projectedPoint(target, targetFrame, ids[i]);
-    fpMove.row(row) = projectedPoint(source, sourceFrame, ids[i]).transpose() - fpTarget.row(row);
-  }
-  std::vector<int> fpTriangles;
-  for (const auto& tri : alignmentTriangles()) {
-    for (std::string_view id : tri) {
-      fpTriangles.push_back(static_cast<int>(std::find(ids.begin(), ids.end(), id) - ids.begin()));
-    }
-  }
-  const TriangleInterpolator alignment(fpTarget, fpTriangles);
 
   std::vector<std::uint8_t> tags(src.triangles.size() / 3, 0);
   for (std::size_t t = 0; t < tags.size(); ++t) {
@@ -255,15 +388,42 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     if (!used[static_cast<std::size_t>(t)]) continue;
     const Eigen::Vector2d p = tgt.uv.row(t);
     const TriangleWeights a = alignment.locate(p);
+    // Inside the alignment triangulation the filled one agrees with it.
+    map.targetFactors.row(t) =
+        regionFactors(a.inside ? a : targetFeatures.locate(p), targetFactorsOf).transpose();
     for (int k = 0; k < 3; ++k) {
       aligned.row(t) += a.weights[k] * fpMove.row(a.corners[static_cast<std::size_t>(k)]);
     }
   }
   std::vector<double> sourceEdge, targetEdge;
-  if (options.filterSupport > 0 && options.adaptiveFilter) {
+  if ((options.filterSupport > 0 && options.adaptiveFilter) || options.smoothSupport > 0) {
     sourceEdge = meanEdgeLength(src.uv, src.triangles);
     targetEdge = meanEdgeLength(aligned, tgt.triangles);
   }
+  // How far each target point lies under its own face's outer surface (a fold, an inner
+  // layer: the paper's smallest-depth rule would give it the outer layer's motion); it takes
+  // the source's layer as far under the source's outer surface (ours).
+  std::vector<double> belowTop(static_cast<std::size_t>(n), 0.0);
+  {
+    const TriangleInterpolator own(tgt.uv, tgt.triangles, tgt.depth);
+    for (Eigen::Index t = 0; t < n; ++t) {
+      if (!used[static_cast<std::size_t>(t)]) continue;
+      const TriangleWeights w = own.locate(tgt.uv.row(t).transpose());
+      if (!w.overlap) continue;  // alone at its place: on the outer surface
+      double top = 0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        top += w.weights[static_cast<Eigen::Index>(k)] *
+               tgt.depth[static_cast<std::size_t>(w.corners[k])];
+      }
+      const double below = tgt.depth[static_cast<std::size_t>(t)] - top;
+      if (below > 1e-9) belowTop[static_cast<std::size_t>(t)] = below;
+    }
+  }
+  // A target vertex at a source vertex's place takes exactly its motion (ours; the filter's
+  // other samples are added where the meshes' densities differ): where surfaces overlap
+  // (eyeballs under the lids) the smallest-depth rule would give it the outer one's.
+  const SamePlace samePlace(src, sourceCentroid);
+  const Points2 alignedCentroid = meanTriangleCentroid(aligned, tgt.triangles);
 
   map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
   map.rowStart.push_back(0);
@@ -301,30 +461,61 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       continue;
     }
     const Eigen::Vector2d p = aligned.row(t);
-    std::uint8_t excluded = 0;
-    if (map.targetLips[static_cast<std::size_t>(t)] == LipRegion::Upper) excluded = kLowerTag;
-    if (map.targetLips[static_cast<std::size_t>(t)] == LipRegion::Lower) excluded = kUpperTag;
-    entries.clear();
-    const TriangleWeights centre = motion.locate(p, excluded);
-    // The filter: the centre and six points on a circle of diameter `support`, averaged.
-    double support = 0;
-    if (options.filterSupport > 0) {
-      double here = 0;
-      if (options.adaptiveFilter && centre.triangle >= 0) {
-        for (int k = 0; k < 3; ++k) {
-          here += centre.weights[k] *
-                  sourceEdge[static_cast<std::size_t>(centre.corners[static_cast<std::size_t>(k)])];
+    const LipRegion lip = map.targetLips[static_cast<std::size_t>(t)];
+    const LipRegion otherLip = lip == LipRegion::Upper   ? LipRegion::Lower
+                               : lip == LipRegion::Lower ? LipRegion::Upper
+                                                         : LipRegion::Outside;
+    const std::uint8_t excluded = otherLip == LipRegion::Lower   ? kLowerTag
+                                  : otherLip == LipRegion::Upper ? kUpperTag
+                                                                 : 0;
+    const double depth = tgt.depth[static_cast<std::size_t>(t)];
+    const Eigen::Vector2d side = alignedCentroid.row(t).transpose();
+    int same = samePlace.find(p, depth, SamePlace::kSame, side, otherLip, map.sourceLips);
+    TriangleWeights centre;
+    const double below = belowTop[static_cast<std::size_t>(t)];
+    if (same < 0) {
+      centre = motion.locate(p, excluded, below);
+      // Under the outer surface, where the source has no layer as deep here (a steep fold,
+      // such as an eye socket's wall, covers little of the projection), the nearest source
+      // vertex is the better match.
+      if (centre.triangle >= 0 && below > 0) {
+        double there = 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+          there += centre.weights[static_cast<Eigen::Index>(k)] *
+                   src.depth[static_cast<std::size_t>(centre.corners[k])];
         }
+        same = samePlace.find(p, depth, std::abs(there - depth), side, otherLip, map.sourceLips);
       }
-      support = filterSupportAt(
-          options, targetEdge.empty() ? 0 : targetEdge[static_cast<std::size_t>(t)], here);
+    }
+    if (same >= 0) {  // the centre sample is that vertex (triangle: any valid index)
+      centre.triangle = 0;
+      centre.corners = {same, same, same};
+      centre.weights = Eigen::Vector3d(1, 0, 0);
+      centre.inside = true;
+    }
+    entries.clear();
+    // The filter: the centre and six points on a circle of diameter `support`, averaged.
+    double support = options.adaptiveFilter ? 0 : options.filterSupport;
+    if (!sourceEdge.empty() && centre.triangle >= 0) {
+      double here = 0;
+      for (int k = 0; k < 3; ++k) {
+        here += centre.weights[k] *
+                sourceEdge[static_cast<std::size_t>(centre.corners[static_cast<std::size_t>(k)])];
+      }
+      const double there = targetEdge[static_cast<std::size_t>(t)];
+      // The distance to the nearest feature point matters only where the target is finer.
+      double featureDistance = 0;
+      if (options.smoothSupport > 0 && here > 3 * there) {
+        featureDistance = (fpSource.rowwise() - p.transpose()).rowwise().norm().minCoeff();
+      }
+      support = filterSupportAt(options, there, here, featureDistance);
     }
     const double share = support > 0 ? 1.0 / 7 : 1.0;
     addSample(centre, p, share);
     for (int k = 0; support > 0 && k < 6; ++k) {
       const double a = k * std::numbers::pi / 3;
       const Eigen::Vector2d q = p + 0.5 * support * Eigen::Vector2d(std::cos(a), std::sin(a));
-      addSample(motion.locate(q, excluded), q, share);
+      addSample(motion.locate(q, excluded, below), q, share);
     }
     for (const auto& [s, weight] : entries) {
       map.source.push_back(s);

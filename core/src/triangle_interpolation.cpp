@@ -174,8 +174,8 @@ bool TriangleInterpolator::Level::cellOf(const Eigen::Vector2d& p, int& cx, int&
   return inGrid;
 }
 
-TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p,
-                                             std::uint8_t excludedTags) const {
+TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p, std::uint8_t excludedTags,
+                                             double belowTop) const {
   TriangleWeights result;
   if (triangleCount() == 0 || !p.allFinite()) return result;
   const auto eligible = [&](int t) { return (tag(t) & excludedTags) == 0; };
@@ -196,7 +196,8 @@ TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p,
                                 level.cellTriangles.data() + level.cellStart[cell + 1]);
   };
   // Inside: every triangle holding p is registered in p's cell of the inside grid. Where several
-  // hold it (overlap after projection), the smallest depth wins; ties go to the lowest index.
+  // hold it (overlap after projection), the smallest depth wins, or with belowTop > 0 the
+  // depth nearest to the smallest + belowTop; ties go to the lowest index.
   {
     int best = -1;
     double bestDepth = 0;
@@ -204,15 +205,32 @@ TriangleWeights TriangleInterpolator::locate(const Eigen::Vector2d& p,
     constexpr double kOnEdge = -1e-12;
     int cx, cy;
     if (inside_.cellOf(p, cx, cy)) {
-      for (int t : cellTriangles(inside_, cx, cy)) {
+      const std::span<const int> cell = cellTriangles(inside_, cx, cy);
+      for (int t : cell) {
         if (!eligible(t)) continue;
         const Eigen::Vector3d b = weightsIn(t, p);
         if (b.minCoeff() < kOnEdge) continue;
         const double d = depthAt(t, b);
+        result.overlap = best >= 0;
         if (best < 0 || d < bestDepth || (d == bestDepth && t < best)) {
           best = t;
           bestDepth = d;
           bestB = b;
+        }
+      }
+      if (best >= 0 && belowTop > 0) {
+        const double wanted = bestDepth + belowTop;
+        double bestGap = belowTop;
+        for (int t : cell) {
+          if (!eligible(t)) continue;
+          const Eigen::Vector3d b = weightsIn(t, p);
+          if (b.minCoeff() < kOnEdge) continue;
+          const double gap = std::abs(depthAt(t, b) - wanted);
+          if (gap < bestGap || (gap == bestGap && t < best)) {
+            best = t;
+            bestGap = gap;
+            bestB = b;
+          }
         }
       }
     }

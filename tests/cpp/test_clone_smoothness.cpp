@@ -41,11 +41,13 @@ struct Roughness {
   double off, adaptive, fixed;
 };
 
-// Without the filter, with the default (adaptive) one and with the paper's fixed support.
+// Without the filter (nor the smoothing), with the default (adaptive) one and with the
+// paper's fixed support.
 Roughness roughnessOf(const FaceModel& source, const std::vector<DeformedCopy>& copies,
                       const FaceModel& target) {
   CloneOptions off, fixed;
   off.filterSupport = 0;
+  off.smoothSupport = 0;
   fixed.adaptiveFilter = false;
   const Roughness r{clonedRoughness(source, copies, target, off),
                     clonedRoughness(source, copies, target, CloneOptions{}),
@@ -73,18 +75,18 @@ TEST(CloneSmoothness, FilterSmoothsDenseSourceOnCoarseTarget) {
   }
 }
 
-// Onto a denser target the motion is interpolated linearly inside the source's triangles, so
-// it comes out smoother than the source's own; the adaptive filter leaves it so (the target
-// samples more finely: nothing can alias), the fixed one blurs it further.
+// Onto a much denser target the motion, interpolated linearly inside the source's triangles,
+// bends at their borders; the default options smooth it there (CloneOptions::smoothSupport),
+// the fixed filter blurs it too.
 TEST(CloneSmoothness, DenserTargetGetsSmoothMotion) {
   const FaceModel candide = fixture::candide(mpeg4face::test::kData);
-  const FaceModel coarse = fixture::resampled(candide, 2000);
+  const FaceModel coarse = fixture::resampled(candide, 300);
   const std::vector<DeformedCopy> copies = fixture::syntheticCopies(coarse, 1.0);
   const double own = sourceRoughness(coarse, copies);
   std::printf("roughness onto a denser target (source %d vertices, its own %.4f)\n",
               coarse.meshes[0].vertexCount(), own);
   const Roughness r = roughnessOf(coarse, copies, fixture::resampled(candide, 20000));
-  EXPECT_LT(r.adaptive, 0.5 * own);
-  EXPECT_EQ(r.adaptive, r.off);
-  EXPECT_LE(r.fixed, r.adaptive);
+  EXPECT_LT(r.off, 0.5 * own);
+  EXPECT_LT(r.adaptive, 0.8 * r.off);
+  EXPECT_LE(r.fixed, r.off);
 }

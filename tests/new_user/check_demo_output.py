@@ -13,7 +13,9 @@
 - each decoded stream's PSNR against the original, computed here, is the one the demo
   printed, and decoding the bitstream again gives the decoded file;
 - the preview has one rendered frame per scene frame of the stream, a contact sheet of 4 x 3
-  frames and an MPEG-4 video.
+  frames and an MPEG-4 video;
+- the real capture's FAP stream (made on the ICT head) is as long as the capture, its coded
+  and decoded copies check out as the sentence's, and its side-by-side sheet has 3 x 6 tiles.
 Prints one line per check; exits 1 on the first failure.
 """
 
@@ -46,7 +48,9 @@ def ok(message: str) -> None:
 def check_files(out: Path) -> None:
     names = ["info.txt", "makehuman_head.wrl", "makehuman_head.glb", "makehuman_head_fat.txt",
              "hello.fap", "hello.wav", "hello_animated.glb", "summary.txt",
-             "preview/contact_sheet.png", "preview/preview.mp4"]
+             "preview/contact_sheet.png", "preview/preview.mp4", "capture.fap",
+             "capture_to_fap.txt", "capture_dct.fba", "capture_dct_decoded.fap",
+             "coding_capture.txt", "capture_animated.glb", "capture_sheet.png"]
     for mode in ("predictive", "dct"):
         names += [f"hello_{mode}.fba", f"hello_{mode}_decoded.fap", f"coding_{mode}.txt"]
     for name in names:
@@ -96,19 +100,25 @@ def printed_psnr(path: Path) -> float:
     return float(match.group(1))
 
 
+def check_coding(original: Path, coded: Path, decoded_path: Path, printed: Path) -> float:
+    """Decoding `coded` again gives `decoded_path`, whose PSNR against `original` is the one
+    printed in `printed`; returns it."""
+    decoded = mpeg4face.read_fap(decoded_path)
+    again = mpeg4face.decode_fba(coded.read_bytes())
+    if not (np.array_equal(again.values, decoded.values)
+            and np.array_equal(again.mask, decoded.mask)):
+        fail(f"decoding {coded.name} again differs from {decoded_path.name}")
+    psnr = mpeg4face.psnr(mpeg4face.read_fap(original), decoded)
+    shown = printed_psnr(printed)
+    if psnr is None or not (math.isinf(psnr) and math.isinf(shown) or abs(psnr - shown) <= 0.005):
+        fail(f"{coded.name}: PSNR of the decoded stream is {psnr}, the demo printed {shown}")
+    return psnr
+
+
 def check_streams(out: Path) -> None:
-    original = mpeg4face.read_fap(out / "hello.fap")
     for mode in ("predictive", "dct"):
-        decoded = mpeg4face.read_fap(out / f"hello_{mode}_decoded.fap")
-        again = mpeg4face.decode_fba((out / f"hello_{mode}.fba").read_bytes())
-        if not (np.array_equal(again.values, decoded.values)
-                and np.array_equal(again.mask, decoded.mask)):
-            fail(f"decoding hello_{mode}.fba again differs from hello_{mode}_decoded.fap")
-        psnr = mpeg4face.psnr(original, decoded)
-        shown = printed_psnr(out / f"coding_{mode}.txt")
-        if psnr is None or not (math.isinf(psnr) and math.isinf(shown)
-                                or abs(psnr - shown) <= 0.005):
-            fail(f"{mode}: PSNR of the decoded stream is {psnr}, the demo printed {shown}")
+        psnr = check_coding(out / "hello.fap", out / f"hello_{mode}.fba",
+                            out / f"hello_{mode}_decoded.fap", out / f"coding_{mode}.txt")
         ok(f"{mode}: PSNR of hello_{mode}_decoded.fap {psnr:.2f} dB, as printed")
 
 
@@ -136,6 +146,26 @@ def check_preview(out: Path) -> None:
        f"{sheet[1]}, video {len(video) // 1024} KiB")
 
 
+def check_capture(out: Path) -> None:
+    capture = mpeg4face.read_livelink_csv(
+        ROOT / "tests/data/livelink-face/MySlate_3_Jason_Millers_iPhone.csv")
+    stream = mpeg4face.read_fap(out / "capture.fap")
+    seconds = capture.times[-1] - capture.times[0]
+    if abs(stream.duration - seconds) > 2 / stream.frame_rate or stream.frame_rate != 25:
+        fail(f"capture.fap lasts {stream.duration:.2f} s at {stream.frame_rate} fps, the "
+             f"capture {seconds:.2f} s")
+    jaw = stream.values[:, 2][stream.mask[:, 2]]  # FAP 3, open_jaw
+    if jaw.size == 0 or jaw.max() <= 0:
+        fail("capture.fap never opens the jaw (FAP 3)")
+    psnr = check_coding(out / "capture.fap", out / "capture_dct.fba",
+                        out / "capture_dct_decoded.fap", out / "coding_capture.txt")
+    width, height = png_size(out / "capture_sheet.png")
+    if width < 3 * 100 or height < 6 * 100 or not 1 < height / width < 5:
+        fail(f"capture_sheet.png is {width} x {height}, not 3 x 6 face tiles")
+    ok(f"capture: {len(stream)} frames over {stream.duration:.2f} s, FAP 3 up to {jaw.max()}, "
+       f"DCT PSNR {psnr:.2f} dB as printed, side-by-side sheet {width} x {height}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("out", type=Path)
@@ -144,11 +174,13 @@ def main() -> None:
     args = parser.parse_args()
     check_files(args.out)
     check_gltf([args.out / "makehuman_head.glb", args.out / "hello_animated.glb",
+                args.out / "capture_animated.glb",
                 args.samples / "makehuman_head.glb", args.samples / "candide3.glb"],
                args.validator)
     check_vrml(args.out)
     check_streams(args.out)
     check_preview(args.out)
+    check_capture(args.out)
     print("the demo's output checks out")
 
 

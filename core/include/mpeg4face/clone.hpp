@@ -28,6 +28,12 @@ struct CloneOptions {
   // the source's, none where it is at most 1.25 times, linear between (ours, docs/clone.md).
   // false: the paper's fixed support at every vertex.
   bool adaptiveFilter = true;
+  // Where the target samples more finely than the source (the inverse ramp: none up to 1.25
+  // times as finely, full from twice), the same filter smooths the source's piecewise-linear
+  // motion across its triangle borders, with a support of this many source edge lengths
+  // (the source's mean local edge length in alignment space), narrowed to 0 at the feature
+  // points, whose motion stays exact (ours, docs/clone.md); 0 turns it off.
+  double smoothSupport = 1.0;
   // Keep the upper and lower lip regions apart (the paper's lip-region rule).
   bool separateLips = true;
   // A target point outside the source's surface takes the motion of the closest source

@@ -29,7 +29,8 @@ struct TriangleWeights {
   int triangle = -1;                                  // -1: no triangle was eligible
   std::array<int, 3> corners{};                       // point indices
   Eigen::Vector3d weights = Eigen::Vector3d::Zero();  // sum 1
-  bool inside = false;  // false: the closest-triangle fallback was used
+  bool inside = false;   // false: the closest-triangle fallback was used
+  bool overlap = false;  // inside, and more than one eligible triangle held the point
 };
 
 class TriangleInterpolator {
@@ -41,7 +42,10 @@ class TriangleInterpolator {
   TriangleInterpolator(Points2 points, std::vector<int> triangles, std::vector<double> depth = {},
                        std::vector<std::uint8_t> tags = {});
 
-  TriangleWeights locate(const Eigen::Vector2d& p, std::uint8_t excludedTags = 0) const;
+  // `belowTop` > 0: of the triangles holding p, the one whose depth is nearest to the
+  // smallest one's plus belowTop (a point under the outer surface: a fold, an inner layer).
+  TriangleWeights locate(const Eigen::Vector2d& p, std::uint8_t excludedTags = 0,
+                         double belowTop = 0) const;
 
   const Points2& points() const { return points_; }
   std::span<const int> triangles() const { return triangles_; }
