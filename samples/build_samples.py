@@ -10,8 +10,7 @@
   tongue as meshes of their own under their own Transforms, its feature points, FAP shape
   keys cloned from the ICT head's ARKit-derived FAP keys (Facial Motion Cloning),
   MakeHuman's own expression units where one fits a FAP (replacing the cloned key), and
-  viseme and expression keys made from the FAP keys through the viseme and expression FIT
-  presets.
+  viseme and expression keys cloned from the ICT head's.
 - makehuman_units.json: how each expression unit was mapped (docs/samples.md).
 
 CANDIDE-3 (one vertex per FAP unit) is no longer the MakeHuman head's clone source: cloned
@@ -250,23 +249,27 @@ ROTATION_POSES = {  # FAP -> (Transform name, axis of the positive motion)
     49: ("head", (0, 1, 0)),  # head yaw, to the left
     50: ("head", (0, 0, 1)),  # head roll, to the right: about +z turns y towards -x
 }
-JAW_FAPS = (3, 14, 15)  # the lower teeth and tongue follow the chin (2.1)
+# The lower teeth and tongue follow the chin (2.1) in the jaw FAPs' keys, and in the visemes'
+# and expressions' (1, 2), which open the jaw too.
+JAW_FAPS = (1, 2, 3, 14, 15)
 JAW_PARTS = ("teeth_lower", "tongue")
 
 Keys = dict[str, list[np.ndarray]]  # shape key name -> displacement per mesh
 
 
 def clone_source(ict: mpeg4face.FaceModel) -> mpeg4face.FaceModel:
-    """The ICT head with only its low-level FAP keys: not its ARKit shapes (not in the
-    grammar), viseme and expression keys (made again on the target from its own FAP keys,
-    each alone from the neutral) or poses (the eyeball turns: the target has its own)."""
-    def low_level(name: str) -> bool:
+    """The ICT head with only its FAP, viseme and expression keys: not its ARKit shapes (not
+    in the grammar) or poses (the eyeball turns: the target has its own). The viseme and
+    expression keys are cloned as they are: arkit_fap_keys made them from the lip FAPs' keys
+    localised, which this head's cloned FAP keys (whole-lip motions, like the ARKit shapes
+    they come from) are not, so made again here from them they would add up."""
+    def cloned(name: str) -> bool:
         parsed = mpeg4face.parse_shape_key_name(name)
-        return bool(parsed) and parsed["fap"] >= 3 and parsed["fap"] not in EYEBALL_FAPS
+        return bool(parsed) and parsed["fap"] not in EYEBALL_FAPS
 
     meshes = ict.meshes
     for mesh in meshes:
-        mesh.morph_targets = [t for t in mesh.morph_targets if low_level(t.name)]
+        mesh.morph_targets = [t for t in mesh.morph_targets if cloned(t.name)]
     ict.meshes = meshes
     ict.animations = []
     if not any(mesh.morph_targets for mesh in meshes):
@@ -354,58 +357,6 @@ def with_keys(head: mpeg4face.FaceModel, keys: Keys,
     return head
 
 
-def viseme_and_expression_keys(head: mpeg4face.FaceModel
-                               ) -> tuple[Keys, list[mpeg4face.MorphWeightAnimation]]:
-    """viseme1..14 and expression1..6 (at intensity 63): the FAP keys and poses evaluated
-    for the FAPs the viseme and expression FIT presets give each (docs/fit.md), each held
-    within the amplitudes of its keys, as keys
-    and, where the jaw or eyes move, poses of the same name. Each key is made alone from the
-    neutral face, a stream of its own: in one stream a FAP one row sets would be held into
-    the rows after it."""
-    face = mpeg4face.generate_face(head)["face"]
-    evaluator = mpeg4face.FatEvaluator(face)
-    # Each FAP held within its keys' amplitudes, as arkit_fap_keys does for the ICT head's
-    # viseme and expression keys (the source of this head's keys): past a key the table
-    # runs the cloned motion on linearly, and on a sign without a key backwards.
-    low = np.zeros(mpeg4face.FAP_COUNT, dtype=np.int32)
-    high = np.zeros(mpeg4face.FAP_COUNT, dtype=np.int32)
-    for name in {t.name for m in head.meshes for t in m.morph_targets} | {
-            a.name for a in head.animations}:
-        parsed = mpeg4face.parse_shape_key_name(name)
-        if parsed and parsed["fap"] >= 3:
-            f = parsed["fap"] - 1
-            low[f], high[f] = min(low[f], parsed["amplitude"]), max(high[f], parsed["amplitude"])
-    neutral = evaluator.neutral()
-    fits = [mpeg4face.fit_preset(p) for p in ("viseme", "expression")]
-    no_faps = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
-    sent = [(f"viseme{v}", 1, (v, 0, 63, 0), (0,) * 6)
-            for v in range(1, len(mpeg4face.visemes()))]
-    sent += [(f"expression{e}_{mpeg4face.expressions()[e].name}", 2, (0,) * 4,
-              (e, 63, 0, 0, 0, 0)) for e in range(1, len(mpeg4face.expressions()))]
-    Path = mpeg4face.TransformChannel.Path
-    keys, animations = {}, []
-    for name, fap, viseme, expression in sent:
-        mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
-        mask[0, fap - 1] = True
-        stream = mpeg4face.FapStream.from_arrays([0], mask, no_faps, np.array([viseme]),
-                                                 np.array([expression]))
-        for fit in fits:
-            stream = fit.interpolate(stream)
-        values = np.clip(stream.values, low, high).astype(np.int32)
-        stream = mpeg4face.FapStream.from_arrays([0], stream.mask, values,
-                                                 np.array([viseme]), np.array([expression]))
-        state = evaluator.evaluate(stream, 0)
-        keys[name] = [c - c0 for c, c0 in zip(state["coord"], neutral["coord"])]
-        channels = [mpeg4face.TransformChannel(t, path, times=[0.0], values=state[field][t])
-                    for field, path in (("translation", Path.TRANSLATION),
-                                        ("rotation", Path.ROTATION))
-                    for t in range(len(head.transforms))
-                    if not np.allclose(state[field][t], neutral[field][t])]
-        if channels:
-            animations.append(mpeg4face.MorphWeightAnimation(name, transform_channels=channels))
-    return keys, animations
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=ROOT / "samples/build")
@@ -430,9 +381,6 @@ def main(argv: list[str] | None = None) -> int:
     keys = cloned_keys(clone_source(ict), head)
     replace_with_units(keys, units, mappings)
     head = with_keys(head, keys, poses(head, keys))
-    more_keys, more_poses = viseme_and_expression_keys(head)
-    keys.update(more_keys)
-    head = with_keys(head, keys, [*head.animations, *more_poses])
     mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
     mpeg4face.write_file_atomically(args.out / "makehuman_units.json", (
         json.dumps([asdict(m) for m in mappings], indent=1) + "\n").encode())
