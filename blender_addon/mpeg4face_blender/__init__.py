@@ -37,10 +37,10 @@ def register() -> None:
         preferences.register()
         if status.ok:
             from . import (
-                export, import_stream, operators, operators_arkit, operators_faces,
-                operators_stream, panels, panels_faces, panels_stream, properties,
+                export, import_stream, operators, operators_arkit, operators_check,
+                operators_faces, operators_stream, panels, panels_faces, panels_stream,
+                properties,
             )
-            from . import operators_check
 
             for module in (properties, operators, panels, operators_faces, operators_arkit,
                            panels_faces, export, operators_stream, import_stream,

@@ -63,7 +63,9 @@ Points3 unitMotion(const FaceModel& head, const std::string& unit) {
   for (int v = 0; v < mesh.vertexCount(); ++v)
     vertexOf[mesh.sourceIndex[static_cast<std::size_t>(v)]] = v;
   Points3 motion = Points3::Zero(mesh.vertexCount(), 3);
-  std::ifstream in(kMakeHuman / "expression-units" / (unit + ".target"));
+  // The samples' copy of MakeHuman's units (CC0, samples/makehuman/NOTICE.md).
+  std::ifstream in(mpeg4face::test::kData.parent_path().parent_path() / "samples" / "makehuman" /
+                   "expression-units" / (unit + ".target"));
   std::string line;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
