@@ -16,9 +16,7 @@ using mpeg4face::test::scratchDir;
 
 const std::string kJoy = (mpeg4face::test::kData / "xface-fap" / "joy.fap").string();
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using mpeg4face::test::has;
 
 TEST(CliCodec, EncodePrintsBitsRateAndPsnr) {
   const std::string fba = (scratchDir() / "joy.fba").string();

@@ -21,9 +21,7 @@ using mpeg4face::test::scratchDir;
 
 const std::string kJoy = (mpeg4face::test::kData / "xface-fap" / "joy.fap").string();
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using mpeg4face::test::has;
 
 TEST(CliFit, PresetWritesTheTableEveryNameAndMerged) {
   for (std::string_view name : fitPresetNames()) {

@@ -17,9 +17,7 @@ using namespace mpeg4face;
 using mpeg4face::test::runCli;
 using mpeg4face::test::scratchDir;
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using mpeg4face::test::has;
 
 TEST(CliSpeak, WritesTheStreamAndTheAudioInStep) {
   const auto dir = scratchDir();

@@ -22,9 +22,7 @@ using mpeg4face::test::readWav;
 using mpeg4face::test::scratchDir;
 using mpeg4face::test::Wav;
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using mpeg4face::test::has;
 
 // The viseme a frame shows most of (viseme_blend 63 is select1 fully).
 int dominant(const Viseme& v) { return v.blend >= 32 ? v.select1 : v.select2; }

@@ -43,6 +43,11 @@ inline std::filesystem::path scratchDir() {
   return dir;
 }
 
+// Whether `text` (a command's output, a message) contains `part`.
+inline bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
 // The `mpeg4face` tool run as a user runs it: `args` go through the shell.
 struct CliResult {
   int status;
