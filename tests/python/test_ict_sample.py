@@ -195,9 +195,6 @@ def test_table6_warnings_only_where_the_geometry_deviates(built):
 
 # --- FAP keys made from the ARKit shapes (issue 18's acceptance) ----------------------------
 
-needs_keys = pytest.mark.skipif(not hasattr(mpeg4face, "arkit_fap_keys"),
-                                reason="mpeg4face.arkit_fap_keys not built yet")
-
 
 def fap_keys(head):
     """FAP key name -> (parsed name, displacement per mesh)."""
@@ -212,7 +209,6 @@ def fap_keys(head):
     return out
 
 
-@needs_keys
 def test_each_fap_key_moves_its_feature_point_by_its_amplitude(built):
     head, fapu = built
     keys = fap_keys(head)
@@ -231,7 +227,6 @@ def test_each_fap_key_moves_its_feature_point_by_its_amplitude(built):
     assert measured >= 30
 
 
-@needs_keys
 def test_open_jaw_at_jawopens_amplitude_parts_the_inner_lips(built):
     head, fapu = built
     keys = fap_keys(head)
@@ -243,7 +238,6 @@ def test_open_jaw_at_jawopens_amplitude_parts_the_inner_lips(built):
     assert gap >= 0.5 * fapu.mns0.value
 
 
-@needs_keys
 def test_fat_generate_makes_tables_of_the_keys(built, built_glb, tmp_path):
     """`mpeg4face fat generate` on the built sample gives a FaceDefTable per FAP keyed, per
     viseme and per expression."""
