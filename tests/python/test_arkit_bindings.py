@@ -55,8 +55,10 @@ def test_keys_from_a_jaw_and_a_blink():
     assert any(m["fap"] == 27 and m["reason"] for m in made["missed"])
     names = {t.name for t in made["head"].meshes[0].morph_targets}
     assert "fap3_open_jaw@341" in names and any(n.startswith("viseme") for n in names)
-    # joy's FAPs (lip corners, lower lids) have no key here, so it has no key either
-    assert "expression1_joy" not in names and "expression6_surprise" in names
+    # anger's FAPs (brows, lids, lips pressed) have no key here, so it has no key either;
+    # joy and surprise part the lips (FAP 5 down, keyed by JawOpen)
+    assert "expression3_anger" not in names
+    assert "expression1_joy" in names and "expression6_surprise" in names
     assert mpeg4face.generate_face(made["head"])["copies"] == len(names) - 2  # not the ARKit shapes
 
 
