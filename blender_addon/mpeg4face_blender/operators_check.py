@@ -25,6 +25,7 @@ class MPEG4FACE_OT_check_motion(bpy.types.Operator):
 
     bl_idname = "mpeg4face.check_motion"
     bl_label = "Check Motion"
+    bl_options = {"REGISTER", "UNDO"}
 
     with_stream: BoolProperty(name="With the stream", default=False,
                               description="Also every frame of the stream imported onto the face")
