@@ -241,6 +241,8 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
   std::vector<std::vector<MorphTarget>> localisedAdded(out.head.meshes.size());
   std::vector<MorphWeightAnimation> poses;
   std::optional<FeaturePointShares> shares;  // of the mesh the last area FAP's point is on
+  // The viseme and expression keys are evaluated through the keys localised (addHighLevelKeys).
+  const bool highLevel = (options.visemes || options.expressions) && !out.mapping.keys.empty();
   for (const ArkitFapKey& key : out.mapping.keys) {
     const std::string name =
         formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)});
@@ -260,7 +262,7 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
       }
     }
     std::map<int, Points3> area;  // the same key localised, for the viseme and expression keys
-    if (isAreaFap(key.fap)) {
+    if (highLevel && isAreaFap(key.fap)) {
       const std::string point(fapInfo(key.fap).featurePoint);
       const auto binding = out.head.featurePoints.find(point);
       const auto found = binding == out.head.featurePoints.end()
@@ -274,18 +276,22 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
       }
     }
     for (auto& [m, d] : meshes) {
-      const auto it = area.find(m);
-      localisedAdded[static_cast<std::size_t>(m)].push_back(
-          {name, it == area.end() ? d : std::move(it->second)});
+      if (highLevel) {
+        const auto it = area.find(m);
+        localisedAdded[static_cast<std::size_t>(m)].push_back(
+            {name, it == area.end() ? d : std::move(it->second)});
+      }
       added[static_cast<std::size_t>(m)].push_back({name, std::move(d)});
     }
   }
-  FaceModel localised = out.head;
+  if (!highLevel) {
+    setKeys(out.head, std::move(added), std::move(poses), false);
+    return out;
+  }
+  FaceModel localised = out.head;  // a copy of a whole head: only when it is evaluated
   setKeys(localised, std::move(localisedAdded), poses, false);
   setKeys(out.head, std::move(added), std::move(poses), false);
-  if ((options.visemes || options.expressions) && !out.mapping.keys.empty()) {
-    addHighLevelKeys(out, localised, options);
-  }
+  addHighLevelKeys(out, localised, options);
   return out;
 }
 
