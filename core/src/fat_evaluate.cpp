@@ -260,21 +260,50 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
       }
     }
     for (const FaceDefTransform& def : in.faceDefTransform) table.transforms.push_back({def, {}});
+    if (in.fapID <= 2) continue;
+    // Each entry's motion at the outermost border on either side: the priority's share.
+    for (std::size_t k = 0; k < in.faceDefMesh.size(); ++k) {
+      const FaceDefMesh& src = in.faceDefMesh[k];
+      const auto n = static_cast<std::size_t>(src.intervalCount());
+      const auto zero = static_cast<std::size_t>(table.meshes[k].zeroIndex);
+      std::vector<float>& reach = table.meshes[k].reach;
+      for (std::size_t v = 0; v < src.coordIndex.size(); ++v) {
+        Eigen::RowVector3d below = Eigen::RowVector3d::Zero(), above = below;
+        for (std::size_t j = 0; j < n; ++j) {
+          const double width = double(src.intervalBorders[j + 1]) - src.intervalBorders[j];
+          (n > 1 && j < zero ? below : above) +=
+              width * src.displacements.row(static_cast<Eigen::Index>(v * n + j));
+        }
+        reach.push_back(static_cast<float>(std::max(below.norm(), above.norm())));
+      }
+    }
   }
   std::ranges::sort(tables_, [](const Table& a, const Table& b) {
     return std::pair(a.fapID, a.highLevelSelect) < std::pair(b.fapID, b.highLevelSelect);
   });
 
   // Priority of low-level FAPs: which of them cover each vertex slot / Transform field that a
-  // viseme or expression table moves.
+  // viseme or expression table moves, and by what share (the entry's reach over the table's
+  // largest, so that a FAP whose motion fades out does not cut the viseme off at its edge).
   std::vector<FapBits> slotCover;
   std::map<std::pair<int, int>, FapBits> fieldCover;
+  std::vector<std::map<std::uint8_t, float>> shares;
   for (const Table& t : tables_) {
     if (t.fapID <= 2) continue;
     const auto bit = static_cast<std::size_t>(t.fapID - 1);
+    float largest = 0;
+    for (const Mesh& m : t.meshes) {
+      for (float r : m.reach) largest = std::max(largest, r);
+    }
     for (const Mesh& m : t.meshes) {
       slotCover.resize(slotCount_);
-      for (std::uint32_t s : m.slot) slotCover[s].set(bit);
+      shares.resize(slotCount_);
+      for (std::size_t e = 0; e < m.slot.size(); ++e) {
+        const std::uint32_t s = m.slot[e];
+        slotCover[s].set(bit);
+        float& share = shares[s][static_cast<std::uint8_t>(bit)];
+        share = std::max(share, largest > 0 ? m.reach[e] / largest : 1.0f);
+      }
     }
     for (const TransformDef& d : t.transforms) {
       fieldCover[{d.def.transform, static_cast<int>(d.def.fieldId)}].set(bit);
@@ -291,6 +320,11 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
       const auto it = fieldCover.find({d.def.transform, static_cast<int>(d.def.fieldId)});
       if (it != fieldCover.end()) d.coveredBy = it->second;
     }
+  }
+  coverStart_.assign(1, 0);
+  for (const auto& slot : shares) {
+    cover_.insert(cover_.end(), slot.begin(), slot.end());
+    coverStart_.push_back(static_cast<std::uint32_t>(cover_.size()));
   }
 }
 
@@ -378,10 +412,15 @@ void FatEvaluator::addMesh(const Mesh& m, int value, float* work, const FapBits*
     float* w = work + axis * slotCount_;
     const float* s = slope + axis * count;
     const float* b = base ? base + axis * count : nullptr;
-    if (active) {  // a viseme or expression: skip the vertices a present low-level FAP moves
+    if (active) {  // a viseme or expression: less where a present low-level FAP moves
       for (std::size_t i = 0; i < count; ++i) {
-        if ((m.coveredBy[i] & *active).any()) continue;
-        w[slot[i]] += (b ? b[i] : 0.0f) + c * s[i];
+        float keep = 1;
+        if ((m.coveredBy[i] & *active).any()) {
+          for (std::uint32_t e = coverStart_[slot[i]]; e < coverStart_[slot[i] + 1]; ++e) {
+            if (active->test(cover_[e].first)) keep = std::min(keep, 1 - cover_[e].second);
+          }
+        }
+        w[slot[i]] += keep * ((b ? b[i] : 0.0f) + c * s[i]);
       }
     } else if (b) {
       for (std::size_t i = 0; i < count; ++i) w[slot[i]] += b[i] + c * s[i];

@@ -334,6 +334,35 @@ TEST(FatEvaluate, LowLevelFapsPresentInTheFrameOverrideVisemesAndExpressions) {
   expectNear(moved(s, face, 0, 2), {63, 0, 63}, 1e-4);
 }
 
+TEST(FatEvaluate, PriorityFadesWithTheLowLevelFapsMotion) {
+  // FAP 5 moves vertex 1 fully and vertices 2 and 3 by a half and a hundredth of that (a
+  // key that fades out): the viseme keeps 0, a half and 99% of its motion there.
+  MpegFace face = highLevelFace();
+  FaceDefTables lip;
+  lip.fapID = 5;
+  FaceDefMesh m;
+  m.mesh = 0;
+  m.intervalBorders = {-100, 0, 100};
+  m.coordIndex = {1, 2, 3};
+  // Per vertex, its two intervals; the negative side reaches further at vertex 1.
+  m.displacements.resize(6, 3);
+  m.displacements << 0, 2e-3, 0, 0, 1e-3, 0,  // vertex 1: 0.2 below, 0.1 above
+      0, 0.5e-3, 0, 0, 0.5e-3, 0,             // vertex 2: 0.05 each side
+      0, 0, 0, 0, 2e-5, 0;                    // vertex 3: 0.002 above
+  lip.faceDefMesh.push_back(m);
+  face.faceDefTables.push_back(lip);
+  const FatEvaluator eval(face, uniformFapu());
+  FapFrame frame;
+  frame.mask.set(0);
+  frame.viseme = {3, 0, 63, false};
+  frame.set(5, 0);  // present at 0: it holds what it moves, by its share
+  const FatState s = eval.evaluate(frame);
+  expectNear(moved(s, face, 0, 0), {63, 0, 0}, 1e-4);         // not FAP 5's
+  expectNear(moved(s, face, 0, 1), {0, 0, 0}, 1e-4);          // its largest motion
+  expectNear(moved(s, face, 0, 2), {63 * 0.75, 0, 0}, 1e-4);  // 0.05 of 0.2
+  expectNear(moved(s, face, 0, 3), {63 * 0.99, 0, 0}, 1e-4);  // 0.002 of 0.2
+}
+
 TEST(FatEvaluate, PriorityIsPerMesh) {
   MpegFace face = highLevelFace();
   face.faceSceneGraph.addMeshWithTransform(gridMesh("Teeth", 3));

@@ -371,6 +371,26 @@ def test_sample_jaw_carries_the_lower_lip(checked, name):
     assert checked[name]["lower_lip_share"] >= 0.5
 
 
+@pytest.mark.parametrize("name", ["makehuman", "ict"])
+def test_sample_sentence_parts_the_lips(checked, streams, name):
+    """Wherever the demo's sentence shows an open vowel (10 A:, 11 e, 13 Q) at three quarters
+    or more, the inner lips part by at least 0.4 MNS0 of it, blinks and raised brows present
+    or not (a low-level FAP takes only its share of a viseme's motion: docs/fat.md)."""
+    visemes = streams[0].resolved()["visemes"]
+    frames = [f for f in checked[name]["frames"] if f["stream"] == 0]
+    assert len(frames) == len(visemes)
+    shown = 0
+    for (select1, select2, blend, _), frame in zip(visemes, frames):
+        weights = {select1: blend / 63}
+        weights[select2] = weights.get(select2, 0) + (63 - blend) / 63
+        weight = sum(w for v, w in weights.items() if v in OPEN_VOWELS)
+        if weight < 0.75:
+            continue
+        shown += 1
+        assert frame["inner_lip_gap_mns0"] >= MIN_OPEN_GAP * weight, frame["name"]
+    assert shown >= 10
+
+
 @pytest.mark.xfail(strict=True, reason="the ICT head's lower-lip keys add up under the "
                    "streams' jaw and lip FAPs (A: parts the lips 2.7 MNS0): stretched edges, "
                    "folds and new self-intersections in most frames (docs/speech.md)")

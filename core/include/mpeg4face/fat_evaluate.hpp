@@ -55,8 +55,10 @@ class FatEvaluator {
   // - a viseme table is driven by viseme_blend (select1) and 63 - viseme_blend (select2), an
   //   expression table by the intensity of the select that names it (both if both do);
   // - low-level FAPs have priority: a vertex in the coordIndex of a table (same mesh) of a
-  //   low-level FAP present in the frame ignores the viseme and expression tables, and so
-  //   does a Transform field that such a FAP animates;
+  //   low-level FAP present in the frame gives up the share of its viseme and expression
+  //   motion that the FAP moves it by, relative to the vertex that FAP moves most (all of
+  //   it there, a little where the FAP's motion fades out; the largest share over the
+  //   present FAPs), and a Transform field that such a FAP animates ignores them;
   // - FaceDefTransforms are applied in increasing fapID order (then highLevelSelect), from
   //   the neutral Transform (applyFaceDefTransform).
   // Throws mpeg4face::Error for a state of another shape and for viseme / expression fields
@@ -88,6 +90,8 @@ class FatEvaluator {
     std::vector<float> slope;
     std::vector<float> base;
     std::vector<FapBits> coveredBy;  // viseme / expression tables: low-level FAPs per vertex
+    // The largest motion of each entry at the table's outermost borders (low-level tables).
+    std::vector<float> reach;
   };
   struct TransformDef {
     FaceDefTransform def;
@@ -111,6 +115,10 @@ class FatEvaluator {
   std::size_t slotCount_ = 0;
   std::vector<int> animatedTransforms_;
   FapBits lowLevelWithTables_;
+  // Per vertex slot, the share of its viseme / expression motion each low-level FAP takes
+  // when present (coverStart_[s] .. coverStart_[s + 1] in cover_): compressed rows.
+  std::vector<std::uint32_t> coverStart_;
+  std::vector<std::pair<std::uint8_t, float>> cover_;  // (FAP - 1, share)
 };
 
 }  // namespace mpeg4face
