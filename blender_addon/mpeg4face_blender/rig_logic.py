@@ -116,23 +116,24 @@ class BoneChannel:
     sign: float = 1.0
 
 
-# FAP -> bone of Rigify's human meta-rig (Blender 3.4, "Add > Armature > Human (Meta-Rig)").
-# The meta-rig's face bones are the deform bones' places: the jaw pivots at `jaw`, lips
-# and brows are chains whose heads sit on the feature points.
+# FAP -> bone of Rigify's human meta-rig (Blender 3.4, Add > Armature > Human (Meta-Rig)),
+# whose face bones deform when the head is bound to the meta-rig itself. The jaw turns
+# about its pivot for FAP 3 and slides for 14 and 15; the mid-lips follow lip.T.L / lip.B.L
+# (they start at the lip's middle), the corners cheek.B.* (which starts there), the brows the
+# bottom brow chain (inner .003 to outer .001), the eyelids the middle of each lid chain.
 RIGIFY_MAPPING: dict[int, BoneChannel] = {
-    3: BoneChannel("jaw", "rotation", "X", 1.0),
-    4: BoneChannel("lip.T"), 5: BoneChannel("lip.B"),
-    6: BoneChannel("lip.T.L.001"), 7: BoneChannel("lip.T.R.001"),
-    12: BoneChannel("lip.T.L.001"), 13: BoneChannel("lip.T.R.001"),
-    14: BoneChannel("jaw"), 15: BoneChannel("jaw"),
+    3: BoneChannel("jaw", "rotation", "X"), 14: BoneChannel("jaw"), 15: BoneChannel("jaw"),
+    4: BoneChannel("lip.T.L"), 5: BoneChannel("lip.B.L"),
+    51: BoneChannel("lip.T.L"), 52: BoneChannel("lip.B.L"),
+    6: BoneChannel("cheek.B.L"), 7: BoneChannel("cheek.B.R"),
+    12: BoneChannel("cheek.B.L"), 13: BoneChannel("cheek.B.R"),
+    53: BoneChannel("cheek.B.L"), 54: BoneChannel("cheek.B.R"),
+    59: BoneChannel("cheek.B.L"), 60: BoneChannel("cheek.B.R"),
     19: BoneChannel("lid.T.L.002"), 20: BoneChannel("lid.T.R.002"),
     21: BoneChannel("lid.B.L.002"), 22: BoneChannel("lid.B.R.002"),
-    31: BoneChannel("brow.T.L.001"), 32: BoneChannel("brow.T.R.001"),
-    33: BoneChannel("brow.T.L.002"), 34: BoneChannel("brow.T.R.002"),
-    35: BoneChannel("brow.T.L.003"), 36: BoneChannel("brow.T.R.003"),
-    51: BoneChannel("lip.T"), 52: BoneChannel("lip.B"),
-    53: BoneChannel("lip.T.L.001"), 54: BoneChannel("lip.T.R.001"),
-    59: BoneChannel("lip.T.L.001"), 60: BoneChannel("lip.T.R.001"),
+    31: BoneChannel("brow.B.L.003"), 32: BoneChannel("brow.B.R.003"),
+    33: BoneChannel("brow.B.L.002"), 34: BoneChannel("brow.B.R.002"),
+    35: BoneChannel("brow.B.L.001"), 36: BoneChannel("brow.B.R.001"),
 }
 
 
