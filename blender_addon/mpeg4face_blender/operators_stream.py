@@ -243,6 +243,7 @@ def _product(matrices: list[np.ndarray], chain: tuple[int, ...]) -> np.ndarray:
 
 
 def _add_live_key(obj: bpy.types.Object) -> None:
+    poses.suspend_rig(obj)  # the live key holds the rig's motion already
     if obj.data.shape_keys is None:  # a part without shape keys
         obj.shape_key_add(name=LIVE_BASIS, from_mix=False)
     obj.shape_key_add(name=LIVE_KEY, from_mix=False)
@@ -269,6 +270,7 @@ def _remove_live_key(obj: bpy.types.Object, restore: tuple[bool, int] | None) ->
     """Removes the object's live key (and the LIVE_BASIS when nothing else is left beside
     it) and shows its shape keys as `restore` says (as they were), or, without it, the
     Basis."""
+    poses.resume_rig(obj)
     key = obj.data.shape_keys
     live = key.key_blocks.get(LIVE_KEY) if key else None
     if live is not None:

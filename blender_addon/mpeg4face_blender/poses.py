@@ -99,6 +99,31 @@ def rig_only(objects: Iterable[bpy.types.Object],
                 block.mute = mute
 
 
+_SUSPENDED = "mpeg4face_suspended_modifiers"  # saved with the file, as the live key is
+
+
+def suspend_rig(obj: bpy.types.Object) -> None:
+    """Turns the object's deform modifiers (the rig: Armature, ...) off in the viewport,
+    remembering which in the object, while something else shows the rig's motion (the live
+    preview's key, which is the evaluated tables)."""
+    names = [m.name for m in obj.modifiers
+             if m.show_viewport and m.type in rig_logic.DEFORM_MODIFIERS]
+    for name in names:
+        obj.modifiers[name].show_viewport = False
+    if names:
+        obj[_SUSPENDED] = names
+
+
+def resume_rig(obj: bpy.types.Object) -> None:
+    """Turns the modifiers suspend_rig turned off back on."""
+    for name in obj.get(_SUSPENDED, ()):
+        modifier = obj.modifiers.get(name)
+        if modifier is not None:
+            modifier.show_viewport = True
+    if _SUSPENDED in obj:
+        del obj[_SUSPENDED]
+
+
 def evaluated_coords(obj: bpy.types.Object, depsgraph: bpy.types.Depsgraph) -> np.ndarray:
     """The object's vertices through its modifier stack (object space, Blender's axes);
     RigError when the stack changes the vertex count."""

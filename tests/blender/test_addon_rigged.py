@@ -21,7 +21,7 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 import mpeg4face  # noqa: E402
 from mathutils import Vector  # noqa: E402
 
-from mpeg4face_blender import fp_logic, operators_faces, poses  # noqa: E402
+from mpeg4face_blender import fp_logic, operators_faces, operators_stream, poses  # noqa: E402
 
 # marker -> frame, (jaw, left eye, right eye) rotations in radians
 JAW_HALF, JAW_FULL, EYE_TURN = 0.12, 0.3, 0.25
@@ -293,3 +293,33 @@ def test_bones_missing_the_feature_point_are_refused(rigged, tmp_path):
                                            r"moves the skin but not feature point 3\.1"):
         bpy.ops.mpeg4face.export_vrml(filepath=str(tmp_path / "head.wrl"))
     assert no_file_written(tmp_path)
+
+
+def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
+    """The live preview of a stream on the rigged head shows exactly the FAT result: its
+    key holds the rig's motion, so the Armature modifier is off meanwhile, on again after."""
+    head, _, _ = rigged
+    scene = bpy.context.scene
+    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
+    frames = 3
+    mask = np.zeros((frames, 68), dtype=bool)
+    values = np.zeros((frames, 68), dtype=np.int32)
+    mask[:, [2, 22, 23]] = True
+    values[:, 2], values[:, 22] = (0, 700, 1024), (0, 0, 30000)
+    path = tmp_path / "jaw.fap"
+    mpeg4face.write_fap(mpeg4face.FapStream.from_arrays(np.arange(frames), mask, values,
+                                                        frame_rate=scene.render.fps), str(path))
+    stream = mpeg4face.read_fap_stream(path)
+    # (The stream import asks for a grammar shape key; this head has only the rig's poses.)
+    start = 100
+    operators_stream.start_live(head, scene, operators_stream.grammar_keys(head), stream, start)
+    armature = head.modifiers["Armature"]
+    assert not armature.show_viewport
+    for index in range(frames):
+        scene.frame_set(start + index)
+        shown = poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get())
+        expected = evaluator.evaluate(stream, index)["coord"][0]
+        np.testing.assert_allclose(fp_logic.to_standard_axes(shown), expected, atol=1e-5)
+    operators_stream.stop_live(head)
+    assert armature.show_viewport and "mpeg4face_suspended_modifiers" not in head
