@@ -117,10 +117,12 @@ def _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral, depsgra
         return f"feature point {info.feature_point} is not set on {head.name}"
     try:
         direction = rig_logic.fap_direction(fap)
-        unit = fapu.unit(info.fapu)
+        unit = fapu.unit(info.fapu)  # the FAPU: the distance / 1024
     except (ValueError, mpeg4face.Error) as error:
         return str(error)
-    wanted = amplitude * unit / mpeg4face.FAPU_DIVISOR
+    if unit == 0.0:
+        return f"the head's {info.fapu}0 is not measured: {', '.join(fapu.missing())} missing"
+    wanted = amplitude * unit
     bone = rig.pose.bones[channel.bone]
     if channel.channel == "location" and bone.bone.use_connect:
         return (f"bone {channel.bone} is connected to its parent, so it cannot move: map "

@@ -191,13 +191,6 @@ def fap_direction(fap: int) -> Array:
     return np.asarray(_DIRECTIONS[motion], dtype=np.float64)
 
 
-def pose_amplitude(fap: int, fapu: float, fraction: float = 1.0) -> tuple[int, float]:
-    """The amplitude (FAPU units) to pose a FAP at and the distance it means: one FAPU
-    distance (1024 units) times fraction, as shape_keys.DEFAULT_AMPLITUDE."""
-    amplitude = int(round(1024 * fraction))
-    return amplitude, amplitude * fapu / mpeg4face.FAPU_DIVISOR
-
-
 @dataclass
 class PoseFit:
     """The outcome of posing one FAP: the control value found and where its feature point

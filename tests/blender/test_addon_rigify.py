@@ -128,12 +128,13 @@ def test_rigify_face_rig_posed_to_faps(rigify_head, tmp_path, capsys):
         poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get()))
     faces = [i for p in head.data.polygons for i in (*p.vertices, -1)]
     fapu = mpeg4face.measure_fapu(fp_logic.face_model(neutral, faces, fp_vertices))
+    assert 0.1 < fapu.mns0.value < 0.6  # the head's mouth-nose separation (model units)
     missed = dict(report.missed)
     off = {}
     for fap in FAPS:
         if fap in missed:
             continue
-        wanted = AMPLITUDE * fapu.unit(mpeg4face.fap(fap).fapu) / mpeg4face.FAPU_DIVISOR
+        wanted = AMPLITUDE * fapu.unit(mpeg4face.fap(fap).fapu)  # the FAPU: distance / 1024
         got = landing(head, fp_vertices, markers[shape_keys.key_name("FAP", fap, AMPLITUDE)],
                       neutral, fap)
         if abs(got / wanted - 1.0) > 0.05:
