@@ -19,9 +19,10 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_blender.py)")
 
 import mpeg4face  # noqa: E402
-from mathutils import Vector  # noqa: E402
+from mathutils import Matrix, Vector  # noqa: E402
 
-from mpeg4face_blender import fp_logic, operators_faces, operators_stream, poses  # noqa: E402
+import conftest  # noqa: E402
+from mpeg4face_blender import fp_logic, mesh_data, operators_faces, operators_stream, poses  # noqa: E402, I001
 
 # marker -> frame, (jaw, left eye, right eye) rotations in radians
 JAW_HALF, JAW_FULL, EYE_TURN = 0.12, 0.3, 0.25
@@ -323,3 +324,29 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
         np.testing.assert_allclose(fp_logic.to_standard_axes(shown), expected, atol=1e-5)
     operators_stream.stop_live(head)
     assert armature.show_viewport and "mpeg4face_suspended_modifiers" not in head
+
+
+def test_cloning_reads_the_rig(rigged):
+    """Clone Facial Motion takes the rig's copies as the head's keys: a copy of the head
+    twice its size gets the jaw's and an eye's poses as shape keys, twice as large."""
+    head, _, fp_vertices = rigged
+    rig_mesh = {name: evaluated(head, frame) for name, (frame, _) in POSES.items()}
+    target, _, _ = conftest.make_candide_head()
+    try:
+        target.data.transform(Matrix.Scale(2.0, 4))
+        for obj in bpy.context.view_layer.objects:
+            obj.select_set(obj in (head, target))
+        bpy.context.view_layer.objects.active = head
+        assert bpy.ops.mpeg4face.clone_motion() == {"FINISHED"}
+        blocks = target.data.shape_keys.key_blocks
+        chin = fp_vertices["2.1"]
+        for name in ("fap3_open_jaw@1024", "fap23_yaw_l_eyeball@50000"):
+            cloned = mesh_data.shape_key_coords(blocks[name]) - mesh_data.shape_key_coords(
+                target.data.shape_keys.reference_key)
+            rig = fp_logic.to_blender_axes(rig_mesh[name] - rig_mesh["neutral"])
+            vertex = chin if name.startswith("fap3") else fp_vertices["3.1"]
+            assert np.allclose(cloned[vertex], 2 * rig[vertex], atol=2e-3), name
+    finally:
+        data = target.data
+        bpy.data.objects.remove(target)
+        bpy.data.meshes.remove(data)
