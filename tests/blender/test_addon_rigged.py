@@ -22,7 +22,7 @@ import mpeg4face  # noqa: E402
 from mathutils import Matrix, Vector  # noqa: E402
 
 import conftest  # noqa: E402
-from mpeg4face_blender import fp_logic, mesh_data, operators_faces, operators_stream, poses  # noqa: E402, I001
+from mpeg4face_blender import fp_logic, mesh_data, operators_faces, poses  # noqa: E402
 
 # marker -> frame, (jaw, left eye, right eye) rotations in radians
 JAW_HALF, JAW_FULL, EYE_TURN = 0.12, 0.3, 0.25
@@ -312,9 +312,12 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
     mpeg4face.write_fap(mpeg4face.FapStream.from_arrays(np.arange(frames), mask, values,
                                                         frame_rate=scene.render.fps), str(path))
     stream = mpeg4face.read_fap_stream(path)
-    # (The stream import asks for a grammar shape key; this head has only the rig's poses.)
+    # The head has no grammar key to bake onto: only the live preview plays the rig.
+    with pytest.raises(RuntimeError, match="only pose markers .a rig's.: choose Live preview"):
+        bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="BAKE")
     start = 100
-    operators_stream.start_live(head, scene, operators_stream.grammar_keys(head), stream, start)
+    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="LIVE",
+                                               start_frame=start) == {"FINISHED"}
     armature = head.modifiers["Armature"]
     assert not armature.show_viewport
     for index in range(frames):
@@ -322,7 +325,7 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
         shown = poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get())
         expected = evaluator.evaluate(stream, index)["coord"][0]
         np.testing.assert_allclose(fp_logic.to_standard_axes(shown), expected, atol=1e-5)
-    operators_stream.stop_live(head)
+    assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
     assert armature.show_viewport and "mpeg4face_suspended_modifiers" not in head
 
 
