@@ -308,10 +308,11 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
     values = np.zeros((frames, 68), dtype=np.int32)
     mask[:, [2, 22, 23]] = True
     values[:, 2], values[:, 22] = (0, 700, 1024), (0, 0, 30000)
-    path = tmp_path / "jaw.fap"
-    mpeg4face.write_fap(mpeg4face.FapStream.from_arrays(np.arange(frames), mask, values,
-                                                        frame_rate=scene.render.fps), str(path))
-    stream = mpeg4face.read_fap_stream(path)
+    coded = mpeg4face.encode_fba(mpeg4face.FapStream.from_arrays(
+        np.arange(frames), mask, values, frame_rate=scene.render.fps)).data
+    path = tmp_path / "jaw.fba"  # imported as a user would, decoded by the import
+    path.write_bytes(coded)
+    stream = mpeg4face.decode_fba(coded)
     # The head has no grammar key to bake onto: only the live preview plays the rig.
     with pytest.raises(RuntimeError, match="only pose markers .a rig's.: choose Live preview"):
         bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="BAKE")
@@ -325,6 +326,7 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
         shown = poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get())
         expected = evaluator.evaluate(stream, index)["coord"][0]
         np.testing.assert_allclose(fp_logic.to_standard_axes(shown), expected, atol=1e-5)
+    assert np.abs(expected - model.meshes[0].coord).max() > 0.05  # the jaw open, an eye turned
     assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
     assert armature.show_viewport and "mpeg4face_suspended_modifiers" not in head
 
