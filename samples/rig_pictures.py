@@ -98,14 +98,15 @@ def main() -> None:
     faps = [0] + [int(n.split("_")[0][3:]) for _, n in shown[1:]]
     mask = np.zeros((len(faps), 68), dtype=bool)
     values = np.zeros((len(faps), 68), dtype=np.int32)
-    mask[:, 2:] = True  # every low-level FAP sent: an unsent partner (FAP 7 of FAP 6) would follow it
+    mask[:, 2:] = True  # every low-level FAP: an unsent partner (7 of 6) would follow it
     for i, fap in enumerate(faps):
         if fap:
             values[i, fap - 1] = args.amplitude
     stream = mpeg4face.FapStream.from_arrays(np.arange(len(faps)), mask, values,
                                              frame_rate=scene.render.fps)
     start = max(markers.values()) + 10
-    operators_stream.start_live(head, scene, operators_stream.grammar_keys(head), stream, start)
+    keys = operators_stream.grammar_keys(head)
+    operators_stream.start_live(head, scene, keys, stream, start)
     render_sheet(head, [(start + i, f"table {note}") for i, (_, note) in enumerate(shown)],
                  args.tables_png, 4)
     operators_stream.stop_live(head)

@@ -67,11 +67,12 @@ def pose_faps(head: bpy.types.Object, rig: bpy.types.Object,
     bones = rig.pose.bones
     channels = {}
     for fap, channel in sorted(mapping.items()):
-        if channel.bone not in bones:
-            report.missed.append((fap, f"{rig.name} has no bone {channel.bone}"))
+        missing = [name for name in channel.bones if name not in bones]
+        if missing:
+            report.missed.append((fap, f"{rig.name} has no bone {', '.join(missing)}"))
         else:
             channels[fap] = channel
-    used = {c.bone for c in channels.values()}
+    used = {name for c in channels.values() for name in c.bones}
     animation = rig.animation_data
     action = animation.action if animation is not None else None
     if animation is not None:
@@ -90,7 +91,8 @@ def pose_faps(head: bpy.types.Object, rig: bpy.types.Object,
             for done, (fap, channel) in enumerate(channels.items(), 1):
                 fit = _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral,
                            depsgraph, tolerance)
-                _set(bones[channel.bone], channel, Vector(), 0.0)
+                for name in channel.bones:
+                    _set(bones[name], channel, Vector(), 0.0)
                 if isinstance(fit, str):
                     report.missed.append((fap, fit))
                 elif not fit.ok:
@@ -123,14 +125,17 @@ def _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral, depsgra
     if unit == 0.0:
         return f"the head's {info.fapu}0 is not measured: {', '.join(fapu.missing())} missing"
     wanted = amplitude * unit
-    bone = rig.pose.bones[channel.bone]
-    if channel.channel == "location" and bone.bone.use_connect:
-        return (f"bone {channel.bone} is connected to its parent, so it cannot move: map "
-                "a free bone (a control) or a rotation")
-    local = _local_direction(head, rig, bone, direction)
+    bones = [rig.pose.bones[name] for name in channel.bones]
+    for bone in bones:
+        if channel.channel == "location" and bone.bone.use_connect:
+            return (f"bone {bone.name} is connected to its parent, so it cannot move: map "
+                    "a free bone (a control) or a rotation")
+    local = [_local_direction(head, rig, bone, direction) for bone in bones]
+    bone = bones[0]
 
     def measure(value: float) -> np.ndarray:
-        _set(bone, channel, local, value)
+        for each, direction_there in zip(bones, local):
+            _set(each, channel, direction_there, value)
         bpy.context.view_layer.update()
         coords = poses.evaluated_coords(head, depsgraph)
         return fp_logic.to_standard_axes(coords[vertex])[0] - neutral[vertex]
@@ -161,10 +166,11 @@ def _key_poses(head, rig, fits, used, amplitude, scene) -> None:
             _set(bones[name], rig_logic.BoneChannel(name), Vector(), 0.0)
         if fitted is not None:
             fit, channel = fitted
-            bone = bones[channel.bone]
-            direction = _local_direction(head, rig, bone, rig_logic.fap_direction(fit.fap)) \
-                if channel.channel == "location" else Vector()
-            _set(bone, channel, direction, fit.value)
+            for name in channel.bones:
+                direction = _local_direction(head, rig, bones[name],
+                                             rig_logic.fap_direction(fit.fap)) \
+                    if channel.channel == "location" else Vector()
+                _set(bones[name], channel, direction, fit.value)
             markers.new(shape_keys.key_name("FAP", fit.fap, amplitude), frame=at)
         for name in used:
             bones[name].keyframe_insert("location", frame=at)

@@ -108,23 +108,32 @@ def unmoved_feature_point_message(marker: str, displacements: Mapping[str, Array
 class BoneChannel:
     """How a FAP poses a bone: `channel` is "location" (the bone moves its feature point
     along the FAP's direction) or "rotation" (about the bone's local `axis`, X, Y or Z:
-    jaw and eyelid bones); sign flips the motion for rigs whose bone points the other way."""
+    jaw and eyelid bones); sign flips the first guess for rigs whose bone points the other
+    way; `also` are bones moved the same way with it (the two halves of a mid-lip)."""
 
     bone: str
     channel: str = "location"
     axis: str = "X"
     sign: float = 1.0
+    also: tuple[str, ...] = ()
+
+    @property
+    def bones(self) -> tuple[str, ...]:
+        return (self.bone, *self.also)
 
 
 # FAP -> bone of Rigify's human meta-rig (Blender 3.4, Add > Armature > Human (Meta-Rig)),
 # whose face bones deform when the head is bound to the meta-rig itself. The jaw turns
-# about its pivot for FAP 3 and slides for 14 and 15; the mid-lips follow lip.T.L / lip.B.L
-# (they start at the lip's middle), the corners cheek.B.* (which starts there), the brows the
-# bottom brow chain (inner .003 to outer .001), the eyelids the middle of each lid chain.
+# about its pivot for FAP 3 and slides for 14 and 15; the mid-lips move both halves of the
+# lip (lip.T.L and lip.T.R start at its middle), the corners cheek.B.* (which starts
+# there), the brows the bottom brow chain (inner .003 to outer .001), the eyelids the
+# middle of each lid chain.
 RIGIFY_MAPPING: dict[int, BoneChannel] = {
     3: BoneChannel("jaw", "rotation", "X"), 14: BoneChannel("jaw"), 15: BoneChannel("jaw"),
-    4: BoneChannel("lip.T.L"), 5: BoneChannel("lip.B.L"),
-    51: BoneChannel("lip.T.L"), 52: BoneChannel("lip.B.L"),
+    4: BoneChannel("lip.T.L", also=("lip.T.R",)),
+    5: BoneChannel("lip.B.L", also=("lip.B.R",)),
+    51: BoneChannel("lip.T.L", also=("lip.T.R",)),
+    52: BoneChannel("lip.B.L", also=("lip.B.R",)),
     6: BoneChannel("cheek.B.L"), 7: BoneChannel("cheek.B.R"),
     12: BoneChannel("cheek.B.L"), 13: BoneChannel("cheek.B.R"),
     53: BoneChannel("cheek.B.L"), 54: BoneChannel("cheek.B.R"),
@@ -139,7 +148,8 @@ RIGIFY_MAPPING: dict[int, BoneChannel] = {
 
 def mapping_from_json(text: str, source: str = "mapping") -> dict[int, BoneChannel]:
     """A user's mapping table: {"3": {"bone": "jaw", "channel": "rotation", "axis": "X"},
-    "31": {"bone": "brow_in.L"}, ...}; ValueError names the entry at fault."""
+    "31": "brow_in.L", "4": {"bone": ["lip_up.L", "lip_up.R"]}, ...} (several bones move
+    together); ValueError names the entry at fault."""
     try:
         raw = json.loads(text)
     except json.JSONDecodeError as error:
@@ -152,10 +162,13 @@ def mapping_from_json(text: str, source: str = "mapping") -> dict[int, BoneChann
         where = f"{source}: FAP {key}"
         if not key.isdigit() or not 3 <= int(key) <= mpeg4face.FAP_COUNT:
             raise ValueError(f"{where}: not a low-level FAP number (3..68)")
-        if isinstance(entry, str):
+        if isinstance(entry, (str, list)):
             entry = {"bone": entry}
-        if not isinstance(entry, dict) or not isinstance(entry.get("bone"), str):
-            raise ValueError(f"{where}: expected a bone name or {{\"bone\": ...}}")
+        names = entry.get("bone") if isinstance(entry, dict) else None
+        names = [names] if isinstance(names, str) else names
+        if not names or not all(isinstance(n, str) and n for n in names):
+            raise ValueError(f"{where}: expected a bone name, a list of them or "
+                             "{\"bone\": ...}")
         unknown = set(entry) - {"bone", "channel", "axis", "sign"}
         if unknown:
             raise ValueError(f"{where}: unknown field {sorted(unknown)[0]}")
@@ -168,12 +181,13 @@ def mapping_from_json(text: str, source: str = "mapping") -> dict[int, BoneChann
         sign = entry.get("sign", 1.0)
         if not isinstance(sign, (int, float)) or sign == 0:
             raise ValueError(f"{where}: sign must be a non-zero number")
-        out[int(key)] = BoneChannel(entry["bone"], channel, axis, float(sign))
+        out[int(key)] = BoneChannel(names[0], channel, axis, float(sign), tuple(names[1:]))
     return out
 
 
 def mapping_to_json(mapping: Mapping[int, BoneChannel]) -> str:
-    return json.dumps({str(f): {"bone": c.bone, "channel": c.channel, "axis": c.axis,
+    return json.dumps({str(f): {"bone": list(c.bones) if c.also else c.bone,
+                                "channel": c.channel, "axis": c.axis,
                                 "sign": c.sign} for f, c in sorted(mapping.items())}, indent=1)
 
 

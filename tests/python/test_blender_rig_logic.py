@@ -52,13 +52,15 @@ def test_still_copies_and_unmoved_feature_points():
 def test_mapping_round_trips_and_names_bad_entries():
     mapping = rig_logic.mapping_from_json(rig_logic.mapping_to_json(rig_logic.RIGIFY_MAPPING))
     assert mapping == rig_logic.RIGIFY_MAPPING
-    assert rig_logic.mapping_from_json('{"31": "brow_in.L"}') == {
-        31: rig_logic.BoneChannel("brow_in.L")}
+    assert rig_logic.mapping_from_json('{"31": "brow_in.L", "4": ["lip.L", "lip.R"]}') == {
+        31: rig_logic.BoneChannel("brow_in.L"), 4: rig_logic.BoneChannel("lip.L", also=("lip.R",))}
+    assert rig_logic.RIGIFY_MAPPING[4].bones == ("lip.T.L", "lip.T.R")
     for text, error in (('{"2": "jaw"}', "FAP 2: not a low-level FAP number"),
                         ('{"3": {"bone": "jaw", "channel": "scale"}}', "channel must be"),
                         ('{"3": {"bone": "jaw", "axis": "W"}}', "axis must be"),
                         ('{"3": {"bone": "jaw", "roll": 1}}', "unknown field roll"),
                         ('{"3": 7}', "expected a bone name"),
+                        ('{"3": []}', "expected a bone name"),
                         ('{"3": "jaw",}', "map.json: line 1, column")):
         with pytest.raises(ValueError, match=error):
             rig_logic.mapping_from_json(text, "map.json")
