@@ -136,7 +136,7 @@ def has_keys(op: bpy.types.Operator, obj: bpy.types.Object,
     keys = obj.data.shape_keys
     if keys is not None and len(keys.key_blocks) > 1:
         return True
-    if scene is not None and poses.pose_markers(scene):
+    if scene is not None and poses.pose_markers(scene, obj):
         return True
     op.report({"ERROR"}, f"{obj.name} has no shape keys besides the Basis"
               + (" and the scene no pose markers" if scene is not None else "")

@@ -67,7 +67,7 @@ def stream_mesh(op: bpy.types.Operator, context: bpy.types.Context, poses_enough
     keys = grammar_keys(obj)
     for problem in keys.malformed:
         op.report({"WARNING"}, f"Shape key {problem}")
-    if not keys.keys and not (poses_enough and poses.pose_markers(context.scene)):
+    if not keys.keys and not (poses_enough and poses.pose_markers(context.scene, obj)):
         op.report({"ERROR"}, f"{obj.name} has no shape keys named fap<N>[_<label>]@<value>, "
                   "viseme<N> or expression<N>[@<intensity>] (see docs/fat.md)")
         return None

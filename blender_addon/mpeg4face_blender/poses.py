@@ -41,11 +41,27 @@ def parts(head: bpy.types.Object) -> list[bpy.types.Object]:
     return sorted((o for o in head.children_recursive if o.type == "MESH"), key=lambda o: o.name)
 
 
-def pose_markers(scene: bpy.types.Scene) -> list[bpy.types.TimelineMarker]:
+def pose_markers(scene: bpy.types.Scene, head: bpy.types.Object | None = None
+                 ) -> list[bpy.types.TimelineMarker]:
     """The markers that name a pose: ours or meant to be (a malformed one is the core's
-    error, with the grammar), by frame."""
-    return sorted((m for m in scene.timeline_markers
-                   if m.name.lower().startswith(_GRAMMAR_PREFIXES)), key=lambda m: m.frame)
+    error, with the grammar), by frame: the scene's, and with `head` the pose markers of
+    the actions of the armatures deforming its face (a pose library's named frames; a
+    scene marker of the same name wins)."""
+    markers = {m.name: m for m in _rig_action_markers(head)} if head is not None else {}
+    markers.update((m.name, m) for m in scene.timeline_markers)
+    return sorted((m for m in markers.values() if m.name.lower().startswith(_GRAMMAR_PREFIXES)),
+                  key=lambda m: m.frame)
+
+
+def _rig_action_markers(head: bpy.types.Object) -> list[bpy.types.TimelineMarker]:
+    out = []
+    for obj in (head, *parts(head)):
+        for modifier in obj.modifiers:
+            rig = modifier.object if modifier.type == "ARMATURE" else None
+            animation = rig.animation_data if rig is not None else None
+            if animation is not None and animation.action is not None:
+                out += list(animation.action.pose_markers)
+    return out
 
 
 def neutral_frame(scene: bpy.types.Scene) -> int:
@@ -172,7 +188,7 @@ def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], I
     back as they were afterwards; RigError (an mpeg4face.Error) for a rig refused."""
     objects = [head, *parts(head)]
     check_armatures(objects)
-    markers = pose_markers(scene)
+    markers = pose_markers(scene, head)
 
     def transform_matrices(neutral_head: Matrix) -> list[Matrix]:
         """At the current frame: the head's matrix from its neutral one, and each part's

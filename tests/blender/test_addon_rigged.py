@@ -355,3 +355,24 @@ def test_cloning_reads_the_rig(rigged):
         data = target.data
         bpy.data.objects.remove(target)
         bpy.data.meshes.remove(data)
+
+
+def test_pose_library_frames_are_poses(rigged):
+    """Frames named by pose markers of the rig's action (a pose library) are poses as scene
+    markers are: the same tables."""
+    head, rig, _ = rigged
+    scene = bpy.context.scene
+
+    def tables():
+        face, report = operators_faces.generate(head, 0.01, scene)
+        return report.covered, [fap_state(face, {3: 700, 23: 20000})]
+
+    covered, states = tables()
+    assert covered == ["fap3 open_jaw", "fap23 yaw_l_eyeball", "fap24 yaw_r_eyeball"]
+    action = rig.animation_data.action
+    for marker in [m for m in scene.timeline_markers if m.name != "neutral"]:
+        action.pose_markers.new(marker.name).frame = marker.frame
+        scene.timeline_markers.remove(marker)
+    again, states_again = tables()
+    assert again == covered
+    np.testing.assert_array_equal(states_again[0], states[0])
