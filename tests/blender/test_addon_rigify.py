@@ -102,6 +102,7 @@ def rigify_head():
     for obj in (head, rig):
         bpy.data.objects.remove(obj)
     scene.frame_set(1)
+    addon_utils.disable("rigify", default_set=True)
 
 
 def landing(head, fp_vertices, frame, neutral, fap):
