@@ -56,7 +56,8 @@ class _ExportFace(ExportHelper):
             obj.update_from_editmode()
 
         def work(update) -> shape_keys.TablesReport:
-            face, report = operators_faces.generate(obj, self.threshold, context.scene)
+            face, report = operators_faces.generate(obj, self.threshold, context.scene,
+                                                    update)  # 0..1 over the pose markers
             update(1)
             self.writer(face, self.filepath)
             update(2)

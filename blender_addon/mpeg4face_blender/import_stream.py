@@ -53,6 +53,10 @@ class _StreamImport(ImportHelper):
         stream's or the scene's rate; the object remembers `path` (a .fap or .fba) for the
         live preview and the encoder. On failure the scene's frame rate is as it was."""
         scene = context.scene
+        if self.preview != "LIVE" and not keys.keys:
+            self.report({"ERROR"}, f"{obj.name} has no shape keys named in the grammar to "
+                        "bake onto, only pose markers (a rig's): choose Live preview")
+            return {"CANCELLED"}
         rate = scene.render.fps, scene.render.fps_base
         if self.frame_rate == "STREAM":
             operators_stream.set_scene_rate(scene, stream.frame_rate)
@@ -93,7 +97,7 @@ class MPEG4FACE_OT_import_fap_stream(_StreamImport, bpy.types.Operator):
         layout.prop(self, "preview", expand=True)
 
     def execute(self, context: bpy.types.Context) -> set[str]:
-        found = operators_stream.stream_mesh(self, context)
+        found = operators_stream.stream_mesh(self, context, poses_enough=True)
         if found is None:
             return {"CANCELLED"}
         obj, keys = found

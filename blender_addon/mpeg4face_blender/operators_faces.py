@@ -95,13 +95,15 @@ def key_names(obj: bpy.types.Object) -> list[str]:
     return [k.name for k in keys.key_blocks if k != keys.reference_key]
 
 
-def generate(obj: bpy.types.Object, threshold: float, scene: bpy.types.Scene
+def generate(obj: bpy.types.Object, threshold: float, scene: bpy.types.Scene,
+             progress: Callable[[float], None] | None = None
              ) -> tuple[mpeg4face.MpegFace, shape_keys.TablesReport]:
     """generate_face on the object's keys, its parts' keys and the scene's pose markers
-    (poses.face_model): the face and its report (with the FP_ group warnings); raises
-    mpeg4face.Error with the core's reason (e.g. "MNS0 is not measured: needs 9.15 and
-    2.2")."""
-    model, group_warnings = poses.face_model(obj, key_names, scene)
+    with the rig's deformed copies there (poses.face_model; progress(fraction) follows the
+    markers): the face and its report (with the FP_ group warnings); raises mpeg4face.Error
+    with the core's reason (e.g. "MNS0 is not measured: needs 9.15 and 2.2") or the rig's
+    (poses.RigError)."""
+    model, group_warnings = poses.face_model(obj, key_names, scene, progress)
     generated = mpeg4face.generate_face(model, threshold)
     return generated["face"], shape_keys.tables_report(generated, group_warnings)
 
@@ -134,7 +136,7 @@ def has_keys(op: bpy.types.Operator, obj: bpy.types.Object,
     keys = obj.data.shape_keys
     if keys is not None and len(keys.key_blocks) > 1:
         return True
-    if scene is not None and poses.pose_markers(scene):
+    if scene is not None and poses.pose_markers(scene, obj):
         return True
     op.report({"ERROR"}, f"{obj.name} has no shape keys besides the Basis"
               + (" and the scene no pose markers" if scene is not None else "")
@@ -392,7 +394,8 @@ class MPEG4FACE_OT_generate_tables(bpy.types.Operator):
         if obj.mode == "EDIT":
             obj.update_from_editmode()  # the keys' data is stale in Edit Mode
         try:
-            _, report = generate(obj, self.threshold, context.scene)
+            _, report = with_progress(context, 1, lambda update: generate(
+                obj, self.threshold, context.scene, update))
         except mpeg4face.Error as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
@@ -414,14 +417,19 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         source = editable_mesh(self, context)
-        if source is None or not has_keys(self, source) or not has_feature_points(self, source):
+        if source is None or not has_keys(self, source, context.scene) \
+                or not has_feature_points(self, source):
             return {"CANCELLED"}
         targets = [o for o in context.selected_objects if o != source and o.type == "MESH"]
         if not targets:
             self.report({"ERROR"}, "Select the target meshes, then the source head last "
                         "(active)")
             return {"CANCELLED"}
-        source_model, _ = mesh_data.face_model(source, key_names(source))
+        try:  # the head's keys and its rig's deformed copies at the pose markers
+            source_model, _ = poses.head_model(source, key_names, context.scene)
+        except mpeg4face.Error as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
 
         def work(update: Callable[[float], None]) -> int:
             done = 0

@@ -53,10 +53,11 @@ class MPEG4FACE_PG_stream(bpy.types.PropertyGroup):
     psnr: FloatProperty(name="PSNR", default=math.nan)  # inf: lossless, nan: none
 
 
-def stream_mesh(op: bpy.types.Operator, context: bpy.types.Context
+def stream_mesh(op: bpy.types.Operator, context: bpy.types.Context, poses_enough: bool = False
                 ) -> tuple[bpy.types.Object, stream_logic.FaceKeys] | None:
     """The active mesh and its shape keys named by the grammar; None (reported) when there
-    is no such mesh or it has no such key."""
+    is no such mesh or it has no such key (with poses_enough, pose markers will do: a
+    rigged head's poses play in the live preview)."""
     obj = operators.active_mesh(op, context)
     if obj is None:
         return None
@@ -66,7 +67,7 @@ def stream_mesh(op: bpy.types.Operator, context: bpy.types.Context
     keys = grammar_keys(obj)
     for problem in keys.malformed:
         op.report({"WARNING"}, f"Shape key {problem}")
-    if not keys.keys:
+    if not keys.keys and not (poses_enough and poses.pose_markers(context.scene, obj)):
         op.report({"ERROR"}, f"{obj.name} has no shape keys named fap<N>[_<label>]@<value>, "
                   "viseme<N> or expression<N>[@<intensity>] (see docs/fat.md)")
         return None
@@ -243,6 +244,7 @@ def _product(matrices: list[np.ndarray], chain: tuple[int, ...]) -> np.ndarray:
 
 
 def _add_live_key(obj: bpy.types.Object) -> None:
+    poses.suspend_rig(obj)  # the live key holds the rig's motion already
     if obj.data.shape_keys is None:  # a part without shape keys
         obj.shape_key_add(name=LIVE_BASIS, from_mix=False)
     obj.shape_key_add(name=LIVE_KEY, from_mix=False)
@@ -269,6 +271,7 @@ def _remove_live_key(obj: bpy.types.Object, restore: tuple[bool, int] | None) ->
     """Removes the object's live key (and the LIVE_BASIS when nothing else is left beside
     it) and shows its shape keys as `restore` says (as they were), or, without it, the
     Basis."""
+    poses.resume_rig(obj)
     key = obj.data.shape_keys
     live = key.key_blocks.get(LIVE_KEY) if key else None
     if live is not None:
@@ -356,7 +359,7 @@ class MPEG4FACE_OT_live_preview(bpy.types.Operator):
             stop_live(obj)
             self.report({"INFO"}, f"Live preview of {obj.name} stopped")
             return {"FINISHED"}
-        found = stream_mesh(self, context)
+        found = stream_mesh(self, context, poses_enough=True)
         if found is None:
             return {"CANCELLED"}
         obj, keys = found

@@ -6,7 +6,8 @@
 
 MPEG4FACE_PYTHONPATH is the build's python folder (the one holding mpeg4face/). Blender's
 Python must be the one the module was built for (Debian's Blender runs /usr/bin/python3's
-3.11). Exits with pytest's status; "no tests collected" counts as a failure.
+3.11). Arguments after "--" go to pytest (-- -k rigged). Exits with pytest's status; "no
+tests collected" counts as a failure.
 """
 
 import os
@@ -35,7 +36,8 @@ def main() -> int:
 
     import pytest
 
-    rc = int(pytest.main(["-q", "-p", "no:cacheprovider", HERE]))
+    extra = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    rc = int(pytest.main(["-q", "-p", "no:cacheprovider", HERE, *extra]))
     if rc == int(pytest.ExitCode.NO_TESTS_COLLECTED):
         print("run_in_blender.py: pytest collected no tests", file=sys.stderr)
         return 1
