@@ -248,6 +248,24 @@ def steps():
     scene.frame_set(open_frame)
     yield
     opened = screenshot("viewport_open_jaw.png")
+    # The live preview, drawn with the gpu module over the hidden head (and the view
+    # without the head, to tell that something is drawn there).
+    obj.hide_set(True)
+    yield
+    empty = screenshot("viewport_empty.png")
+    obj.hide_set(False)
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
+    scene.frame_set(neutral_frame)
+    yield
+    live_neutral = screenshot("viewport_live_neutral.png")
+    scene.frame_set(open_frame)
+    yield
+    live_opened = screenshot("viewport_live_open_jaw.png")
+    live_hidden = len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices) == 0
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
     show_shape_key_panels(obj)
     yield
     with bpy.context.temp_override(window=window):
@@ -264,6 +282,7 @@ def steps():
         bpy.ops.mpeg4face.import_livelink_capture, "blender_import_capture.png",
         DATA / "livelink-face" / "MySlate_3_Jason_Millers_iPhone.csv")
     a, b = pixels(neutral), pixels(opened)
+    live_a, live_b = pixels(live_neutral), pixels(live_opened)
     result = {
         "neutral_frame": neutral_frame,
         "open_jaw_frame": open_frame,
@@ -273,6 +292,11 @@ def steps():
         "forehead_box": forehead,
         "mouth_change": change(a, b, mouth),
         "forehead_change": change(a, b, forehead),
+        "live_mouth_change": change(live_a, live_b, mouth),
+        "live_forehead_change": change(live_a, live_b, forehead),
+        "live_hidden": live_hidden,
+        # the drawn face where the solid one was: both differ from the empty background
+        "live_face_drawn": change(live_a, pixels(empty), forehead),
         "image_size": list(a.shape[:2]),
         "export_panels": export_panels,
     }
