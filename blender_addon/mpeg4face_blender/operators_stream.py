@@ -21,7 +21,7 @@ from bpy_extras.io_utils import ExportHelper
 import mpeg4face
 
 from . import (bake_poses, compat, fp_logic, live_draw, live_logic, mesh_data, operators, poses,
-               stream_logic)
+               stream_logic, ui_text)
 
 LIVE_KEY = "MPEG-4 live"  # the shape key the live preview writes; not in the grammar
 # The reference key the preview adds to a part without shape keys (LIVE_KEY needs one);
@@ -154,7 +154,7 @@ def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.typ
                f"onto {obj.name}: {result.frames} frames from frame {start}{poses_text}")
     op.report({"INFO"}, summary)
     if problems:
-        report_popup(context, "Bake", [summary, *problems])
+        ui_text.popup(context, "Bake", [summary, *problems])
     result.baked_faps = sorted(baked)
     result.missing = sorted(missing, key=_fap_order)
     return result
@@ -164,22 +164,6 @@ def _fap_order(text: str) -> tuple[str, int]:
     kind, _, rest = text.partition(" ")
     number = rest.split(" ")[0]
     return kind, int(number) if number.isdigit() else 0
-
-
-def report_popup(context: bpy.types.Context, title: str, lines: list[str]) -> None:
-    """All of a report's lines in a popup, wrapped to its width (the status bar shows only
-    the last line of an operator's report); nothing in the background."""
-    if bpy.app.background or context.window_manager is None or not context.window_manager.windows:
-        return
-    import textwrap
-
-    def draw(menu: bpy.types.UIPopupMenu, _context: bpy.types.Context) -> None:
-        col = menu.layout.column(align=True)
-        for line in lines:
-            for i, part in enumerate(textwrap.wrap(line, 70) or [""]):
-                col.label(text=part if i == 0 else "    " + part)
-
-    context.window_manager.popup_menu(draw, title=title, icon="INFO")
 
 
 def _key_shape_keys(obj: bpy.types.Object, result: stream_logic.Bake, start: int) -> list[str]:
@@ -582,7 +566,8 @@ class MPEG4FACE_OT_encode_fap_stream(bpy.types.Operator, ExportHelper):
     filter_glob: StringProperty(default="*.fba", options={"HIDDEN"})
     mode: EnumProperty(name="Mode", items=ENCODING_MODES, default="predictive")
     fap_quant: IntProperty(
-        name="fap_quant", description="Quantiser scale: larger is coarser (0: none)",
+        name="Quantiser scale",
+        description="fap_quant, the quantiser scale: larger is coarser (0: none)",
         default=1, min=0, max=31)
 
     def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
@@ -655,9 +640,10 @@ class MPEG4FACE_OT_speak_text(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     text: StringProperty(
-        name="Text", default="Hello <FAP 2 1 40 0 0 800 3> world",
-        description="What to say; bookmarks <FAP 2 ...> (expressions) and <FAP n ...> "
-        "(low-level FAPs) as in docs/speech.md")
+        name="Text", default="Hello world",
+        description="What to say; bookmarks add expressions and FAPs, e.g. "
+        "\"Hello <FAP 2 1 40 0 0 800 3> world\" smiles (joy at 40) from \"world\" "
+        "(docs/speech.md)")
     voice: EnumProperty(name="Voice", items=VOICES, default="kal")
     folder: StringProperty(
         name="Audio folder", subtype="DIR_PATH", default=DEFAULT_SPEECH_FOLDER,

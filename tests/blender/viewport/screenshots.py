@@ -69,14 +69,62 @@ def show_only_our_sidebar_tab():
 
 
 def open_every_panel():
-    """Panels closed by default (Location Warnings, Cloning) registered open, before they
-    are first drawn, so that the screenshots show them."""
+    """The sub-panels (closed by default) registered open, before they are first drawn, so
+    that the screenshots show them."""
     from mpeg4face_blender import panels, panels_faces
 
-    for panel in (panels.MPEG4FACE_PT_location_warnings, panels_faces.MPEG4FACE_PT_cloning):
+    for panel in (panels.MPEG4FACE_PT_fapu, panels.MPEG4FACE_PT_location_warnings,
+                  panels_faces.MPEG4FACE_PT_face_tables, panels_faces.MPEG4FACE_PT_cloning):
         bpy.utils.unregister_class(panel)
         panel.bl_options = panel.bl_options - {"DEFAULT_CLOSED"}
         bpy.utils.register_class(panel)
+
+
+def our_panels():
+    def subclasses(cls):
+        for sub in cls.__subclasses__():
+            yield from subclasses(sub)
+            yield sub
+
+    return [p for p in subclasses(bpy.types.Panel)
+            if getattr(p, "bl_category", "") == "MPEG-4" and p.is_registered]
+
+
+def cut_in_the_sidebar():
+    """layout_check on every panel of the tab in the real sidebar (its width, the UI's
+    scale), the feature point list's rows too: {panel: [cut texts]} and the width."""
+    import layout_check
+    from mpeg4face_blender import panels
+
+    window, area, region = view3d()
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    with bpy.context.temp_override(window=window, area=area, region=sidebar):
+        context = bpy.context
+        cut = {p.__name__: layout_check.cut_labels(p, context, sidebar.width)
+               for p in our_panels()}
+        cut["feature point list"] = layout_check.cut_list_rows(
+            panels.MPEG4FACE_UL_feature_points, context, sidebar.width,
+            context.window_manager, "mpeg4face_feature_points")
+    return {k: v for k, v in cut.items() if v}, sidebar.width
+
+
+def sidebar_picture(window_png, name):
+    """The sidebar cut out of a window screenshot, for the user guide."""
+    window, area, _ = view3d()
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    image = bpy.data.images.load(str(window_png))
+    width, height = image.size
+    rgba = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)
+    bpy.data.images.remove(image)
+    # window coordinates: the screenshot is the window, rows bottom-up
+    x0, y0 = sidebar.x, sidebar.y  # window-relative, as the screenshot
+    crop = rgba[y0:y0 + sidebar.height, x0:x0 + sidebar.width]
+    out = bpy.data.images.new(name, crop.shape[1], crop.shape[0], alpha=True)
+    out.pixels.foreach_set(crop.ravel())
+    out.filepath_raw = str(OUT / name)
+    out.file_format = "PNG"
+    out.save()
+    bpy.data.images.remove(out)
 
 
 def set_up():
@@ -245,6 +293,8 @@ def steps():
     window, _, _ = view3d()
     with bpy.context.temp_override(window=window):
         bpy.ops.screen.screenshot(filepath=str(OUT / "blender_sidebar.png"))
+    sidebar_picture(OUT / "blender_sidebar.png", "blender_sidebar_229.png")
+    cut, sidebar_width = cut_in_the_sidebar()
     scene.frame_set(open_frame)
     yield
     opened = screenshot("viewport_open_jaw.png")
@@ -270,6 +320,9 @@ def steps():
     yield
     with bpy.context.temp_override(window=window):
         bpy.ops.screen.screenshot(filepath=str(OUT / "blender_sidebar_keys.png"))
+    sidebar_picture(OUT / "blender_sidebar_keys.png", "blender_sidebar_keys_229.png")
+    cut_keys, _ = cut_in_the_sidebar()
+    cut.update(cut_keys)
     from mpeg4face_blender import export
 
     export_panels = yield from file_browser_screenshot(
@@ -299,6 +352,8 @@ def steps():
         "live_face_drawn": change(live_a, pixels(empty), forehead),
         "image_size": list(a.shape[:2]),
         "export_panels": export_panels,
+        "sidebar_width": sidebar_width,
+        "cut": cut,
     }
     (OUT / "result.json").write_text(json.dumps(result, indent=1))
 
