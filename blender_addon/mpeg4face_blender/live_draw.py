@@ -4,8 +4,8 @@ its vertex buffer (positions and normals) refilled from the core's evaluation on
 change, drawn in a SpaceView3D handler with the material colours and a studio-like light,
 while the original objects show nothing in the viewport (an empty geometry-nodes
 modifier, off for rendering: they stay active and selectable). No mesh is written or tagged, so
-Blender re-evaluates nothing: the cost of a frame is the core's evaluation and two numpy
-products (live_logic).
+Blender re-evaluates nothing: the cost of a frame is the core's evaluation, its vertex
+normals (the core's vertex_normals) and two numpy products (live_logic).
 
 Blender has no GPU context in background mode (-b): there the buffers are filled (the
 per-frame work is measurable and testable) and nothing is uploaded or drawn."""
@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import bpy
+import mpeg4face
 import numpy as np
 
 from . import live_logic
@@ -69,15 +70,14 @@ class DrawMesh:
     positions and normals (object space, Blender's axes)."""
 
     name: str
-    triangles: np.ndarray  # (T, 3) uint32
+    triangles: np.ndarray  # (T, 3) int32
     colours: np.ndarray  # (N, 4) float32
-    normals: live_logic.VertexNormals
     positions: np.ndarray | None = None
     vertex_normals: np.ndarray | None = None
     batch: object | None = None  # gpu.types.GPUBatch of the latest buffers
     index_buffer: object | None = None
     dirty: bool = True
-    neutral_normals: np.ndarray | None = None  # of the unmoved mesh, for rigid motion
+    neutral_normals: np.ndarray | None = None  # of the undeformed mesh, for rigid motion
     shown: tuple[np.ndarray, np.ndarray] | None = None  # the update's coords and matrix
     flat: bool = False  # no smooth faces: shaded flat, as Blender shows it
 
@@ -91,13 +91,13 @@ class DrawMesh:
             return
         self.shown = coords, matrix
         self.positions = live_logic.placed(coords, matrix)
-        if rigid:
-            if self.neutral_normals is None:
-                self.neutral_normals = self.normals(live_logic.placed(coords, np.eye(4)))
-            turn = live_logic.normal_rotation(matrix).astype(np.float32)
-            self.vertex_normals = self.neutral_normals @ turn.T
+        if not rigid:
+            normals = mpeg4face.vertex_normals(coords, self.triangles)
         else:
-            self.vertex_normals = self.normals(self.positions)
+            if self.neutral_normals is None:
+                self.neutral_normals = mpeg4face.vertex_normals(coords, self.triangles)
+            normals = self.neutral_normals
+        self.vertex_normals = live_logic.placed_normals(normals, matrix)
         self.dirty = True
 
 
@@ -134,14 +134,12 @@ def draw_mesh(obj: bpy.types.Object) -> DrawMesh:
     """The object's mesh as a DrawMesh (its Basis positions until the first update)."""
     mesh = obj.data
     mesh.calc_loop_triangles()
-    triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.uint32)
+    triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
     mesh.loop_triangles.foreach_get("vertices", triangles)
     triangles = triangles.reshape(-1, 3)
     smooth = np.zeros(len(mesh.polygons), dtype=bool)
     mesh.polygons.foreach_get("use_smooth", smooth)
-    return DrawMesh(obj.name, triangles, _material_colours(mesh),
-                    live_logic.VertexNormals(triangles, len(mesh.vertices)),
-                    flat=not smooth.any())
+    return DrawMesh(obj.name, triangles, _material_colours(mesh), flat=not smooth.any())
 
 
 def _empty_group() -> bpy.types.GeometryNodeTree:

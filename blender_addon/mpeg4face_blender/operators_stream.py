@@ -147,6 +147,11 @@ def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.typ
     if missing:
         problems.append("In the stream without a shape key or pose marker (shown neither "
                         "baked nor live): " + ", ".join(sorted(missing, key=_fap_order)))
+    if {stream_logic.VISEME_FAP, stream_logic.EXPRESSION_FAP} & baked and any(
+            f >= 3 for f in baked):
+        problems.append("The bake adds the keys of low-level FAPs to those of visemes and "
+                        "expressions, where the standard lets the low-level FAPs override "
+                        "them: Live shows the exact result")
     for problem in problems:
         op.report({"WARNING"}, problem)
     poses_text = f"; poses of {', '.join(posed.keyed)} keyed" if posed.keyed else ""

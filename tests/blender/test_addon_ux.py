@@ -158,3 +158,16 @@ def test_panels_keep_their_reading_of_the_mesh(head):
     finally:
         bpy.data.objects.remove(other)
         head.select_set(True)
+
+
+def test_the_bake_reports_everything_in_a_popup(head, monkeypatch):
+    """Every line of the bake's report reaches the user (the status bar shows only the
+    last one): the summary and what could not be baked, in one popup."""
+    shown = []
+    monkeypatch.setattr(operators_stream.ui_text, "popup",
+                        lambda context, title, lines, **_: shown.append((title, lines)))
+    assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY)) == {"FINISHED"}
+    (title, lines), = shown
+    assert title == "Bake" and lines[0].startswith("Baked 1 FAPs (3) onto candide3")
+    assert any(line.startswith("In the stream without a shape key or pose marker") and
+               "FAP 19 (close_t_l_eyelid)" in line for line in lines), lines
