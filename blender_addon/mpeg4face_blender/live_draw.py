@@ -43,7 +43,8 @@ void main()
 """
 
 # A key light from the upper left and a fill from the right, in view space, like the Solid
-# mode's studio light; the material colour (linear) shown as sRGB. A mesh of flat faces
+# mode's studio light; the material colour is linear, as the viewport's colour management
+# expects (it turns the result into the display's). A mesh of flat faces
 # (use_smooth off) is shaded flat, from the face's own slope, as Blender shows it.
 _FRAGMENT = """
 uniform float flat_shading;
@@ -59,7 +60,7 @@ void main()
   float key = max(dot(n, normalize(vec3(-0.45, 0.55, 0.7))), 0.0);
   float fill = max(dot(n, normalize(vec3(0.7, -0.1, 0.7))), 0.0);
   vec3 lit = v_col.rgb * (0.12 + 0.68 * key + 0.25 * fill) + vec3(0.06) * pow(key, 20.0);
-  fragColor = vec4(pow(clamp(lit, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
+  fragColor = vec4(clamp(lit, 0.0, 1.0), 1.0);
 }
 """
 
@@ -160,6 +161,7 @@ def hide(obj: bpy.types.Object) -> None:
         modifier = obj.modifiers.new(HIDE_MODIFIER, "NODES")
         modifier.node_group = _empty_group()
         modifier.show_render = False
+        modifier.show_in_editmode = False  # Edit Mode shows the mesh being edited
 
 
 def unhide(obj: bpy.types.Object) -> None:

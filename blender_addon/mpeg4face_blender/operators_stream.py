@@ -699,10 +699,21 @@ _classes = (
 )
 
 
+@persistent
+def _clean_after_load(*_args: object) -> None:
+    """A file saved during a drawn preview keeps the modifier that empties its objects in
+    the viewport; nothing draws them after loading, so they show again (the live keys stay
+    for Stop Live Preview to remove, as documented)."""
+    for obj in bpy.data.objects:
+        if obj.type == "MESH" and obj.modifiers.get(live_draw.HIDE_MODIFIER) is not None:
+            live_draw.unhide(obj)
+
+
 def register() -> None:
     for cls in _classes:
         bpy.utils.register_class(cls)
     bpy.types.Object.mpeg4face_stream = PointerProperty(type=MPEG4FACE_PG_stream)
+    bpy.app.handlers.load_post.append(_clean_after_load)
 
 
 def unregister() -> None:
@@ -717,6 +728,8 @@ def unregister() -> None:
     _live.clear()
     live_draw.clear()
     _remove_handler_when_idle()
+    if _clean_after_load in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_clean_after_load)
     del bpy.types.Object.mpeg4face_stream
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)

@@ -75,6 +75,8 @@ def test_drawn_preview_fills_buffers_and_tags_no_mesh(head, eye, tmp_path):
     np.testing.assert_allclose(live_coords(eye), state.objects[1].drawn.positions, atol=1e-6)
     np.testing.assert_allclose(live_coords(head), state.objects[0].drawn.positions, atol=1e-6)
 
+    assert not head.modifiers[live_draw.HIDE_MODIFIER].show_in_editmode
+
     operators_stream.stop_live(head)
     assert not head.modifiers and not eye.modifiers
     assert live_draw.HIDE_GROUP not in bpy.data.node_groups
@@ -152,3 +154,9 @@ def test_bake_keeps_the_eye_and_head_poses_live_shows(head, eye, tmp_path):
     # the poses at the markers are still there for the tables
     scene.frame_set(210)
     assert eye.rotation_euler.z == pytest.approx(EYE_TURN)
+
+
+def test_a_file_saved_while_drawing_shows_its_head_after_loading(head):
+    live_draw.hide(head)
+    operators_stream._clean_after_load()  # noqa: SLF001 - the load_post handler
+    assert not head.modifiers and live_draw.HIDE_GROUP not in bpy.data.node_groups

@@ -204,7 +204,8 @@ def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
         " 'camera': s.camera.name, 'frame': s.frame_current,"
         " 'active': bpy.context.view_layer.objects.active.name,"
         " 'selected': sorted(o.name for o in s.objects if o.select_get()),"
-        " 'views': [((s.camera.location - v.region_3d.view_location).length,"
+        " 'views': [((s.camera.location - v.region_3d.view_location).length"
+        " - s.camera.data.display_size,"
         " v.region_3d.view_distance) for sc in bpy.data.screens for a in sc.areas"
         " for v in a.spaces if v.type == 'VIEW_3D']}))\n")
     result = subprocess.run(["blender", "-b", str(blend), "--python-exit-code", "1",
@@ -222,8 +223,8 @@ def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
     assert "viseme10" in scene["markers"]  # the viseme's jaw pose
     assert scene["camera"] == "Camera"
     # Ready to use: at frame 1 (not at the neutral marker's 1000), the head active and
-    # selected alone, every 3D view closer to the face than the camera (whose wireframe is
-    # then behind the view, not over the face).
+    # selected alone, every 3D view closer to the face than the camera's wireframe (then
+    # behind the view's eye, not over the face).
     assert scene["frame"] == 1
     assert scene["active"] == "MakeHuman head" and scene["selected"] == ["MakeHuman head"]
     assert scene["views"] and all(camera > 1.2 * view for camera, view in scene["views"])
