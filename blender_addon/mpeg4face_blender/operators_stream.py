@@ -20,7 +20,7 @@ from bpy_extras.io_utils import ExportHelper
 
 import mpeg4face
 
-from . import (bake_poses, compat, fp_logic, live_draw, live_logic, mesh_data, operators, poses,
+from . import (bake_poses, compat, live_draw, live_logic, mesh_data, operators, poses,
                stream_logic, ui_text)
 
 LIVE_KEY = "MPEG-4 live"  # the shape key the live preview writes; not in the grammar

@@ -13,7 +13,7 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 import mpeg4face  # noqa: E402
 from mathutils import Matrix  # noqa: E402
 from test_addon_stream import (  # noqa: E402,F401 - fixtures
-    EYE_POSE, EYE_TURN, JOY, coords, eye, head, live_coords, moved, write_stream)
+    EYE_TURN, JOY, coords, eye, head, live_coords, moved, write_stream)
 
 from mpeg4face_blender import (  # noqa: E402
     fp_logic, live_draw, live_logic, operators_faces, operators_stream, poses)
