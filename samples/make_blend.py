@@ -28,7 +28,7 @@ ARGS = blender_session.start()
 import bpy  # noqa: E402
 import mpeg4face  # noqa: E402
 import numpy as np  # noqa: E402
-from mathutils import Matrix, Quaternion, Vector  # noqa: E402
+from mathutils import Euler, Matrix, Quaternion, Vector  # noqa: E402
 from mpeg4face_blender import fp_logic, poses  # noqa: E402
 
 NEUTRAL_FRAME = 1000  # poses after it, out of the way of an animation from frame 1
@@ -150,6 +150,28 @@ def add_poses(model: mpeg4face.FaceModel, objects: dict[int, bpy.types.Object]) 
     scene.frame_set(NEUTRAL_FRAME)
 
 
+def ready(head: bpy.types.Object, height: float) -> None:
+    """The file as a user first sees it: at frame 1 (the poses' frames from 1000 are out of
+    the animation's way), the head the active, selected object (the add-on's panels work
+    on it), and every 3D view looking at the face from the front, closer than the camera,
+    so the camera's wireframe is behind the view, not over the face."""
+    scene = bpy.context.scene
+    scene.frame_set(1)
+    for obj in scene.objects:
+        obj.select_set(obj == head)
+    bpy.context.view_layer.objects.active = head
+    centre = head.matrix_world @ (sum((Vector(c) for c in head.bound_box), Vector()) / 8)
+    for screen in bpy.data.screens:
+        for area in screen.areas:
+            for space in area.spaces:
+                if space.type == "VIEW_3D":
+                    view = space.region_3d
+                    view.view_perspective = "PERSP"
+                    view.view_location = centre
+                    view.view_rotation = Euler((math.radians(90), 0, 0)).to_quaternion()
+                    view.view_distance = height * 1.6
+
+
 def stage(head: bpy.types.Object, model: mpeg4face.FaceModel) -> None:
     """A camera looking at the face from the front, slightly from the side and above, a key
     light and a fill, and Workbench set up to show the materials."""
@@ -164,6 +186,8 @@ def stage(head: bpy.types.Object, model: mpeg4face.FaceModel) -> None:
     scene.collection.objects.link(camera)
     camera.data.lens = 85
     distance = height * 2.5
+    # Its wireframe (display_size long) stays behind the 3D views' eye (ready(): 1.6 heights).
+    camera.data.display_size = 0.3 * height
     direction = Vector((0.25, -1.0, 0.12)).normalized()
     camera.location = centre + direction * distance
     camera.rotation_euler = (-direction).to_track_quat("-Z", "Y").to_euler()
@@ -193,6 +217,8 @@ def main() -> None:
     model = mpeg4face.read_gltf(source)
     head = build(model, args.name)
     stage(head, model)
+    top, chin = model.feature_point_position("11.4"), model.feature_point_position("2.1")
+    ready(head, top[1] - chin[1])
     part = out.with_name(out.name + ".part.blend")
     bpy.ops.wm.save_as_mainfile(filepath=str(part), compress=True)
     part.replace(out)

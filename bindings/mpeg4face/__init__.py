@@ -115,6 +115,7 @@ __all__ = [
     "write_vrml",
     "write_face_gltf",
     "FatEvaluator",
+    "vertex_normals",
     "clone_feature_points",
     "clone_face",
     "FitTable",

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache
 
 import numpy as np
@@ -220,6 +220,8 @@ class FaceState:
     group_warnings: list[str]
     fapu: list[FapuReading]
     location_warnings: list[mpeg4face.ConstraintWarning]
+    # Feature points found on the head's parts (the pupils on the eyeballs): point -> part
+    part_points: Mapping[str, str] = field(default_factory=dict)
 
 
 def face_state(
@@ -227,8 +229,10 @@ def face_state(
     coord_index: npt.ArrayLike,
     groups: Mapping[str, Sequence[tuple[int, float]]],
     constraint_tolerance: float = 0.02,
+    part_points: Mapping[str, str] | None = None,
 ) -> FaceState:
-    """Feature point statuses, FAPU and Table 6 warnings of a mesh (standard axes)."""
+    """Feature point statuses, FAPU and Table 6 warnings of a mesh (standard axes);
+    `part_points` names the points whose vertices were added from the head's parts."""
     fp_vertices, group_warnings = fp_vertices_from_groups(groups)
     model = face_model(coords, coord_index, fp_vertices)
     measurement = mpeg4face.measure_fapu(model)
@@ -237,6 +241,7 @@ def face_state(
         group_warnings,
         fapu_readings(measurement),
         mpeg4face.check_location_constraints(model, measurement, constraint_tolerance),
+        dict(part_points or {}),
     )
 
 

@@ -39,12 +39,20 @@ class _StreamImport(ImportHelper):
     )
 
     def draw_frames(self, layout: bpy.types.UILayout, resampled: bool = True) -> None:
-        layout.prop(self, "frame_rate")
+        # Each label above its widget: beside it, the file browser's narrow side panel
+        # cuts the label ("Frame r...").
+        layout.label(text="Frame rate")
+        layout.prop(self, "frame_rate", text="")
         if resampled:
-            row = layout.row()
-            row.enabled = self.frame_rate == "SCENE"
-            row.prop(self, "resample")
+            col = layout.column()
+            col.enabled = self.frame_rate == "SCENE"
+            col.label(text="Resample")
+            col.prop(self, "resample", text="")
         layout.prop(self, "start_frame")
+
+    def draw_preview(self, layout: bpy.types.UILayout) -> None:
+        layout.label(text="Preview")
+        layout.row().prop(self, "preview", expand=True)
 
     def show(self, context: bpy.types.Context, obj: bpy.types.Object,
              keys: stream_logic.FaceKeys, stream: mpeg4face.FapStream, path: str,
@@ -82,7 +90,7 @@ class MPEG4FACE_OT_import_fap_stream(_StreamImport, bpy.types.Operator):
 
     bl_idname = "mpeg4face.import_fap_stream"
     bl_label = "Import FAP Stream"
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"REGISTER", "UNDO", "PRESET"}
 
     filter_glob: StringProperty(default="*.fap;*.fba", options={"HIDDEN"})
     fit_path: StringProperty(
@@ -94,7 +102,7 @@ class MPEG4FACE_OT_import_fap_stream(_StreamImport, bpy.types.Operator):
         layout = self.layout
         self.draw_frames(layout)
         layout.prop(self, "fit_path")
-        layout.prop(self, "preview", expand=True)
+        self.draw_preview(layout)
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         found = operators_stream.stream_mesh(self, context, poses_enough=True)
@@ -114,7 +122,7 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
 
     bl_idname = "mpeg4face.import_livelink_capture"
     bl_label = "Import Live Link Face Capture"
-    bl_options = {"REGISTER", "UNDO"}
+    bl_options = {"REGISTER", "UNDO", "PRESET"}
 
     filter_glob: StringProperty(default="*.csv", options={"HIDDEN"})
     face_path: StringProperty(
@@ -138,7 +146,7 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
         row = layout.row()
         row.enabled = self.frame_rate == "STREAM"
         row.prop(self, "fps")
-        layout.prop(self, "preview", expand=True)
+        self.draw_preview(layout)
         layout.prop(self, "folder")
 
     def arkit_face(self, obj: bpy.types.Object) -> mpeg4face.FaceModel:

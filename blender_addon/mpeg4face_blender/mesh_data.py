@@ -133,8 +133,38 @@ def shape_key_displacements(obj: bpy.types.Object, names: Iterable[str]
             for name in names}
 
 
+def face_parts(obj: bpy.types.Object) -> list[bpy.types.Object]:
+    """The mesh objects below the head (as poses.parts, which imports this module)."""
+    return sorted((o for o in obj.children_recursive if o.type == "MESH"), key=lambda o: o.name)
+
+
 def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.FaceState:
+    """The head's feature point state, FAPU and Table 6 warnings, with the feature points
+    its parts hold (the pupils on the eyeball objects) where the head has none: their
+    vertices placed in the head's object space as they are now."""
     with face_bmesh(obj) as bm:
-        return fp_logic.face_state(
-            standard_coords(bm), coord_index(bm), fp_groups(obj, bm), constraint_tolerance
-        )
+        coords, faces, groups = standard_coords(bm), coord_index(bm), fp_groups(obj, bm)
+    taken = {name for name, members in groups.items() if members}
+    extra: list[np.ndarray] = []
+    part_points: dict[str, str] = {}
+    to_head = obj.matrix_world.inverted()
+    for part in face_parts(obj):
+        if part.mode == "EDIT":
+            continue  # read when it leaves Edit Mode
+        matrix = np.array(to_head @ part.matrix_world)
+        with face_bmesh(part) as bm:
+            part_groups = fp_groups(part, bm)
+            for name, members in sorted(part_groups.items()):
+                if not members or name in taken:
+                    continue
+                vertex = max(members, key=lambda m: m[1])[0]
+                point = matrix[:3, :3] @ np.array(bm.verts[vertex].co) + matrix[:3, 3]
+                groups[name] = [(len(coords) + len(extra), 1.0)]
+                extra.append(fp_logic.to_standard_axes([point])[0])
+                taken.add(name)
+                fp = fp_logic.feature_point_of_group(name)
+                if fp is not None:
+                    part_points[fp] = part.name
+    if extra:
+        coords = np.vstack([coords, np.array(extra)])
+    return fp_logic.face_state(coords, faces, groups, constraint_tolerance, part_points)

@@ -13,7 +13,7 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty
 
 import mpeg4face
 
-from . import check_logic, mesh_data, operators_stream
+from . import check_logic, mesh_data, operators_stream, ui_text
 from .panels import _Sidebar
 
 results: dict[str, dict[str, Any]] = {}  # object name -> check_motion's result
@@ -118,23 +118,23 @@ class MPEG4FACE_PT_motion_check(_Sidebar, bpy.types.Panel):
         result = results.get(obj.name)
         if result is None:
             return
-        layout.label(text=check_logic.headline(result),
-                     icon="CHECKMARK" if result["passed"] else "ERROR")
+        ui_text.label(layout, context, check_logic.headline(result),
+                      "CHECKMARK" if result["passed"] else "ERROR")
         for failure in result["failures"]:
-            layout.label(text=failure, icon="ERROR")
+            ui_text.label(layout, context, failure, "ERROR")
         for kind, title in (("keys", "Worst keys"), ("frames", "Worst frames")):
             rows = check_logic.worst(result, kind)
             if not rows:
                 continue
             box = layout.box()
             box.label(text=title)
-            for r in rows:
-                line = box.row()
-                line.label(text=r.name)
-                line.label(text=r.text)
+            for r in rows:  # name and figures wrapped to the width, then the button
+                line = box.split(factor=0.85)
+                ui_text.label(line, context, r.name, boxes=1, factor=0.85)
                 op = line.operator("mpeg4face.select_offending", text="",
                                    icon="RESTRICT_SELECT_OFF")
                 op.kind, op.index = r.kind, r.index
+                ui_text.label(box, context, f"    {r.text}", boxes=1)
 
 
 CLASSES = (MPEG4FACE_OT_check_motion, MPEG4FACE_OT_select_offending, MPEG4FACE_PT_motion_check)

@@ -18,7 +18,7 @@ from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatPrope
 
 import mpeg4face
 
-from . import fp_logic, mesh_data, poses, shape_keys
+from . import fp_logic, mesh_data, poses, shape_keys, ui_text
 from .operators import active_mesh
 
 # The last "Generate FaceDefTables" (or export) report per object name, for the panel;
@@ -96,7 +96,8 @@ def key_names(obj: bpy.types.Object) -> list[str]:
 
 
 def generate(obj: bpy.types.Object, threshold: float, scene: bpy.types.Scene,
-             progress: Callable[[float], None] | None = None
+             progress: Callable[[float], None] | None = None,
+             absolute_threshold: float | None = None
              ) -> tuple[mpeg4face.MpegFace, shape_keys.TablesReport]:
     """generate_face on the object's keys, its parts' keys and the scene's pose markers
     with the rig's deformed copies there (poses.face_model; progress(fraction) follows the
@@ -104,7 +105,7 @@ def generate(obj: bpy.types.Object, threshold: float, scene: bpy.types.Scene,
     with the core's reason (e.g. "MNS0 is not measured: needs 9.15 and 2.2") or the rig's
     (poses.RigError)."""
     model, group_warnings = poses.face_model(obj, key_names, scene, progress)
-    generated = mpeg4face.generate_face(model, threshold)
+    generated = mpeg4face.generate_face(model, threshold, absolute_threshold)
     return generated["face"], shape_keys.tables_report(generated, group_warnings)
 
 
@@ -385,6 +386,11 @@ class MPEG4FACE_OT_generate_tables(bpy.types.Operator):
     threshold: FloatProperty(
         name="Threshold", description="FAPU a vertex must move to be in a table",
         default=0.01, min=0.0, soft_max=1.0)
+    # The core's message for a face without FAPU asks for this threshold.
+    absolute_threshold: FloatProperty(
+        name="Absolute threshold", description="Instead of the FAPU one: the distance (in "
+        "the mesh's units) a vertex must move to be in a table; 0 counts it in FAPU, which "
+        "needs the FAPU measured", default=0.0, min=0.0, soft_max=1.0, precision=5)
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         obj = active_mesh(self, context)
@@ -395,15 +401,18 @@ class MPEG4FACE_OT_generate_tables(bpy.types.Operator):
             obj.update_from_editmode()  # the keys' data is stale in Edit Mode
         try:
             _, report = with_progress(context, 1, lambda update: generate(
-                obj, self.threshold, context.scene, update))
+                obj, self.threshold, context.scene, update, self.absolute_threshold or None))
         except mpeg4face.Error as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
         reports[obj.name] = report
-        for line in report.lines()[1:]:
+        lines = report.lines()
+        for line in lines[1:]:
             self.report({"WARNING"} if line.startswith(("warning", "ignored")) else {"INFO"},
                         line)
-        self.report({"INFO"}, report.lines()[0])
+        self.report({"INFO"}, lines[0])
+        if any(line.startswith(("warning", "ignored")) for line in lines):
+            ui_text.popup(context, "FaceDefTables", lines, icon="ERROR")
         return {"FINISHED"}
 
 

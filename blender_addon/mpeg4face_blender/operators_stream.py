@@ -20,7 +20,8 @@ from bpy_extras.io_utils import ExportHelper
 
 import mpeg4face
 
-from . import compat, fp_logic, mesh_data, operators, poses, stream_logic
+from . import (bake_poses, compat, live_draw, live_logic, mesh_data, operators, poses,
+               stream_logic, ui_text)
 
 LIVE_KEY = "MPEG-4 live"  # the shape key the live preview writes; not in the grammar
 # The reference key the preview adds to a part without shape keys (LIVE_KEY needs one);
@@ -111,11 +112,69 @@ _LINEAR = bpy.types.Keyframe.bl_rna.properties["interpolation"].enum_items["LINE
 def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.types.Object,
                 keys: stream_logic.FaceKeys, stream: mpeg4face.FapStream, start: int,
                 method: str) -> stream_logic.Bake:
-    """Keys the shape keys from `start` at the scene's frame rate (LINEAR keyframes, in an
-    action on the mesh's Key datablock, replacing earlier curves of those keys), widens
-    their sliders, sets the scene's frame range and reports what was baked."""
+    """Keys the shape keys of the head and its parts from `start` at the scene's frame
+    rate (LINEAR keyframes, in an action on each mesh's Key datablock, replacing earlier
+    curves of those keys), widens their sliders, keys the poses the stream drives
+    (bake_poses: eyes, head, the jaw's parts as object keyframes), sets the scene's frame
+    range and reports what was baked, and in a popup what could not be."""
     scene = context.scene
-    result = stream_logic.bake(stream, keys, scene_rate(scene), method)
+    fps = scene_rate(scene)
+    result = stream_logic.bake(stream, keys, fps, method)
+    clamped = _key_shape_keys(obj, result, start)
+    missing = set(result.missing)
+    baked = set(result.baked_faps)
+    for part in poses.parts(obj):
+        part_keys = grammar_keys(part)
+        if part_keys.keys:
+            part_result = stream_logic.bake(stream, part_keys, fps, method)
+            clamped += _key_shape_keys(part, part_result, start)
+            missing &= set(part_result.missing)
+            baked |= set(part_result.baked_faps)
+
+    def key_names(o: bpy.types.Object) -> list[str]:
+        return [k.name for k in (keys if o == obj else grammar_keys(o)).keys]
+
+    posed = bake_poses.bake(obj, scene, key_names, stream, start, result.frames, fps)
+    baked |= set(posed.faps)
+    missing -= {f"FAP {f} ({mpeg4face.fap(f).name})" for f in posed.faps}
+    scene.frame_start = start
+    scene.frame_end = start + result.frames - 1
+    scene.frame_set(start)
+
+    problems = list(posed.problems)
+    if clamped:
+        problems.append(f"Values beyond ±{stream_logic.SLIDER_LIMIT:g} are clamped on: "
+                        + ", ".join(clamped))
+    if missing:
+        problems.append("In the stream without a shape key or pose marker (shown neither "
+                        "baked nor live): " + ", ".join(sorted(missing, key=_fap_order)))
+    if {stream_logic.VISEME_FAP, stream_logic.EXPRESSION_FAP} & baked and any(
+            f >= 3 for f in baked):
+        problems.append("The bake adds the keys of low-level FAPs to those of visemes and "
+                        "expressions, where the standard lets the low-level FAPs override "
+                        "them: Live shows the exact result")
+    for problem in problems:
+        op.report({"WARNING"}, problem)
+    poses_text = f"; poses of {', '.join(posed.keyed)} keyed" if posed.keyed else ""
+    summary = (f"Baked {len(baked)} FAPs ({', '.join(map(str, sorted(baked))) or 'none'}) "
+               f"onto {obj.name}: {result.frames} frames from frame {start}{poses_text}")
+    op.report({"INFO"}, summary)
+    if problems:
+        ui_text.popup(context, "Bake", [summary, *problems])
+    result.baked_faps = sorted(baked)
+    result.missing = sorted(missing, key=_fap_order)
+    return result
+
+
+def _fap_order(text: str) -> tuple[str, int]:
+    kind, _, rest = text.partition(" ")
+    number = rest.split(" ")[0]
+    return kind, int(number) if number.isdigit() else 0
+
+
+def _key_shape_keys(obj: bpy.types.Object, result: stream_logic.Bake, start: int) -> list[str]:
+    """Writes a bake's curves into the object's shape keys; the keys whose values are
+    clamped."""
     shape_keys = obj.data.shape_keys
     animation = shape_keys.animation_data or shape_keys.animation_data_create()
     if animation.action is None:
@@ -135,20 +194,8 @@ def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.typ
             (block.slider_min, block.slider_max), (float(values.min()), float(values.max())))
         block.slider_max, block.slider_min = high, low
         if beyond:
-            clamped.append(name)
-    scene.frame_start = start
-    scene.frame_end = start + result.frames - 1
-    scene.frame_set(start)
-
-    if clamped:
-        op.report({"WARNING"}, f"Values beyond ±{stream_logic.SLIDER_LIMIT:g} are clamped on: "
-                  + ", ".join(clamped))
-    if result.missing:
-        op.report({"WARNING"}, "In the stream without a shape key: " + ", ".join(result.missing))
-    op.report({"INFO"}, f"Baked {len(result.baked_faps)} FAPs "
-              f"({', '.join(map(str, result.baked_faps)) or 'none'}) onto {obj.name}: "
-              f"{result.frames} frames from frame {start}")
-    return result
+            clamped.append(f"{obj.name}: {name}" if obj.parent else name)
+    return clamped
 
 
 def remember_stream(obj: bpy.types.Object, path: str, fit_path: str, start: int, frames: int
@@ -169,6 +216,8 @@ class LiveObject:
     chain: tuple[int, ...]  # the Transforms from the head's down to the one holding its mesh
     unposed: np.ndarray  # (4, 4): the inverse of the chain's neutral matrix
     restore: tuple[bool, int]  # show_only_shape_key, active_shape_key_index
+    pointer: int = 0  # as_pointer(): finds the object again after a rename
+    drawn: live_draw.DrawMesh | None = None  # drawn with the gpu module (LiveState.draw)
 
 
 @dataclass
@@ -181,6 +230,10 @@ class LiveState:
     start: int
     centers: list[np.ndarray]  # per Transform: the center the evaluation leaves as it is
     objects: list[LiveObject]
+    neutral: list[np.ndarray]  # per object: the evaluator's neutral coordinates
+    # Drawn with the gpu module (live_draw) instead of written into the live keys; the keys
+    # are written for rendering only.
+    draw: bool = False
 
 
 _live: dict[str, LiveState] = {}  # head object name -> state
@@ -192,15 +245,19 @@ def is_live(obj: bpy.types.Object) -> bool:
 
 
 def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
-               stream: mpeg4face.FapStream, start: int) -> list[str]:
+               stream: mpeg4face.FapStream, start: int, draw: bool | None = None) -> list[str]:
     """Builds the tables of the whole face (generate_face on poses.face_model: the head's
     grammar keys `keys`, its parts' grammar keys and the pose markers), then shows the
     stream through the core's evaluator: the exact MPEG-4 result, visemes and expressions
     with the standard's priorities included, eyes, jaw and head moved by their Transforms.
-    Each object of the face shows its result in a shape key LIVE_KEY shown alone
-    (show_only_shape_key), so the Basis, the other keys and the objects' matrices (which
-    the pose keyframes drive) are never changed. Returns generate_face's warnings; raises
-    mpeg4face.Error for a face it refuses, ValueError for objects sharing a mesh."""
+
+    Each object of the face gets a shape key LIVE_KEY shown alone (show_only_shape_key),
+    so the Basis, the other keys and the objects' matrices (which the pose keyframes
+    drive) are never changed. `draw` (default: unless Blender runs in the background) draws
+    the face with the gpu module (live_draw), the objects hidden in the viewport, and
+    writes the live keys only for rendering; else every frame is written into the live
+    keys. Returns generate_face's warnings; raises mpeg4face.Error for a face it refuses,
+    ValueError for objects sharing a mesh."""
     stop_live(obj)
     objects = [obj, *poses.parts(obj)]
     _refuse_shared_meshes(objects)
@@ -211,19 +268,24 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
     model, _ = poses.face_model(obj, key_names, scene)
     generated = mpeg4face.generate_face(model)
     neutral = [t.local_matrix() for t in model.transforms]
+    draw = not bpy.app.background if draw is None else draw
+    drawn = live_draw.add_face(obj.name, objects) if draw else [None] * len(objects)
     live_objects = []
     for index, o in enumerate(objects):
         # poses.face_model makes each part (Transform i, holding mesh i) a child of the
         # head's Transform 0.
         chain = (0,) if index == 0 else (0, index)
         live_objects.append(LiveObject(o.name, chain, np.linalg.inv(_product(neutral, chain)),
-                                       (o.show_only_shape_key, o.active_shape_key_index)))
+                                       (o.show_only_shape_key, o.active_shape_key_index),
+                                       o.as_pointer(), drawn[index]))
         _add_live_key(o)
-    state = LiveState(mpeg4face.FatEvaluator(generated["face"]), stream, start,
-                      [t.center for t in model.transforms], live_objects)
+    evaluator = mpeg4face.FatEvaluator(generated["face"])
+    state = LiveState(evaluator, stream, start, [t.center for t in model.transforms],
+                      live_objects, list(evaluator.neutral()["coord"]), draw)
     _live[obj.name] = state
-    if _on_frame_change not in bpy.app.handlers.frame_change_pre:
-        bpy.app.handlers.frame_change_pre.append(_on_frame_change)
+    for handlers, handler in _HANDLERS:
+        if handler not in handlers():
+            handlers().append(handler)
     _show(state, scene)
     return list(generated["warnings"])
 
@@ -255,14 +317,17 @@ def _add_live_key(obj: bpy.types.Object) -> None:
 def stop_live(obj: bpy.types.Object) -> None:
     """Ends the live preview of the head `obj`: the live keys of the face go (and the
     LIVE_BASIS when nothing else is left beside it), the Basis (and the baked keys, if any)
-    show again. Also cleans up live keys left in a saved file."""
+    show again, the objects show in the viewport again. Also cleans up live keys left in a
+    saved file."""
     state = _live.pop(obj.name, None)
+    live_draw.remove_face(obj.name)
     if state is None:
         objects = [(o, None) for o in (obj, *poses.parts(obj))]
     else:
         objects = [(bpy.data.objects.get(o.name), o.restore) for o in state.objects]
     for o, restore in objects:
         if o is not None and o.type == "MESH":
+            live_draw.unhide(o)
             _remove_live_key(o, restore)
     _remove_handler_when_idle()
 
@@ -285,9 +350,25 @@ def _remove_live_key(obj: bpy.types.Object, restore: tuple[bool, int] | None) ->
     obj.data.update()
 
 
-def _live_objects(state: LiveState) -> list[bpy.types.Object] | None:
+def _find(live: LiveObject, head: str, state: LiveState) -> bpy.types.Object | None:
+    """The object of `live`, also after a rename (found by its pointer, which a rename
+    keeps and Undo does not): the state follows the new name."""
+    obj = bpy.data.objects.get(live.name)
+    if obj is not None and obj.as_pointer() == live.pointer:
+        return obj
+    obj = next((o for o in bpy.data.objects if o.as_pointer() == live.pointer), None)
+    if obj is None:
+        return None
+    live_draw.rename(live.name, obj.name)
+    if live.name == head:
+        _live[obj.name] = _live.pop(head)
+    live.name = obj.name
+    return obj
+
+
+def _live_objects(head: str, state: LiveState) -> list[bpy.types.Object] | None:
     """The face's objects; None when one is gone or has lost its live key (by Undo, say)."""
-    objects = [bpy.data.objects.get(o.name) for o in state.objects]
+    objects = [_find(o, head, state) for o in state.objects]
     for o in objects:
         key = o.data.shape_keys if o is not None and o.type == "MESH" else None
         if key is None or LIVE_KEY not in key.key_blocks:
@@ -295,49 +376,130 @@ def _live_objects(state: LiveState) -> list[bpy.types.Object] | None:
     return objects
 
 
-def _show(state: LiveState, scene: bpy.types.Scene) -> bool:
-    """Writes the evaluation at the scene's frame into the live keys; False (and nothing
-    written) when _live_objects finds the face incomplete.
+def _evaluated(state: LiveState, scene: bpy.types.Scene
+               ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The evaluation at the scene's frame: each object's coordinates (N, 3, standard
+    axes) and the matrix (4, 4) that shows them in the object's own frame.
 
     An object's vertices are shown where the evaluated Transforms put them (L0 @ Li @
     coord), taken back through its neutral Transforms (inverse(N0 @ Ni)) into its own
     frame: the object stays where it is and the key carries the turn of an eye, the drop of
     the teeth with the jaw or a nod of the head."""
-    objects = _live_objects(state)
-    if objects is None:
-        return False
     seconds = (scene.frame_current - state.start) / scene_rate(scene)
     index = stream_logic.live_index(state.stream.frame_numbers, state.stream.frame_rate, seconds)
     result = state.evaluator.evaluate(state.stream, index)
     local = [mpeg4face.Transform(translation=t, rotation=r, scale=s, center=c).local_matrix()
              for t, r, s, c in zip(result["translation"], result["rotation"], result["scale"],
                                    state.centers)]
-    for obj, live, coords in zip(objects, state.objects, result["coord"]):
-        matrix = live.unposed @ _product(local, live.chain)
-        shown = coords @ matrix[:3, :3].T + matrix[:3, 3]
-        mesh_data.set_shape_key_coords(obj.data.shape_keys.key_blocks[LIVE_KEY],
-                                       fp_logic.to_blender_axes(shown))
-        obj.data.update()
+    return [(coords, live.unposed @ _product(local, live.chain))
+            for live, coords in zip(state.objects, result["coord"])]
+
+
+def _show(state: LiveState, scene: bpy.types.Scene, keys: bool = False) -> bool:
+    """Shows the evaluation at the scene's frame: drawn (state.draw), or written into the
+    live keys (without drawing, or when `keys`, for a render); False (and nothing shown)
+    when _live_objects finds the face incomplete."""
+    head = next(name for name, s in _live.items() if s is state)
+    objects = _live_objects(head, state)
+    if objects is None:
+        return False
+    for obj, live, (coords, matrix), neutral in zip(objects, state.objects,
+                                                    _evaluated(state, scene), state.neutral):
+        if live.drawn is not None:
+            live.drawn.update(coords, matrix, rigid=np.array_equal(coords, neutral))
+        if keys or not state.draw:
+            mesh_data.set_shape_key_coords(obj.data.shape_keys.key_blocks[LIVE_KEY],
+                                           live_logic.placed(coords, matrix))
+            obj.data.update()
+    if state.draw and not keys:
+        live_draw.tag_redraw()  # the draw handler shows the new buffers
     return True
+
+
+_rendering = False
+
+
+def _show_all(scene: bpy.types.Scene) -> None:
+    # A handler must never raise (it would on every frame): a face with an object that is
+    # gone, or whose live key was removed (by Undo, say), leaves the preview, saying so.
+    for name, state in list(_live.items()):
+        try:
+            if not _show(state, scene, keys=_rendering):
+                stop_live_state(name, "an object of the face is gone or lost its live key")
+        except Exception as error:  # noqa: BLE001
+            stop_live_state(name, f"{type(error).__name__}: {error}")
+    _remove_handler_when_idle()
+
+
+def stop_live_state(name: str, reason: str) -> None:
+    """Ends a preview that cannot go on, with a message in the status bar and the console."""
+    _live.pop(name, None)
+    live_draw.remove_face(name)
+    message = f"MPEG-4: live preview of {name} stopped: {reason}"
+    print(message)
+    _stopped.append(message)
+    if not bpy.app.background:
+        bpy.app.timers.register(_report_stopped, first_interval=0.0)
+
+
+_stopped: list[str] = []  # messages of previews that stopped themselves, for the UI
+
+
+def _report_stopped() -> None:
+    """Shows the messages of stopped previews in the status bar (handlers cannot report)."""
+    if _stopped:
+        text = _stopped[-1]
+
+        def draw(menu: bpy.types.UIPopupMenu, _context: bpy.types.Context) -> None:
+            menu.layout.label(text=text)
+
+        bpy.context.window_manager.popup_menu(draw, title="Live preview", icon="ERROR")
+        _stopped.clear()
 
 
 @persistent
 def _on_frame_change(scene: bpy.types.Scene, *_args: object) -> None:
-    # A handler must never raise (it would on every frame): a face with an object that is
-    # gone, or whose live key was removed (by Undo, say), leaves the preview.
-    for name, state in list(_live.items()):
-        try:
-            if not _show(state, scene):
-                del _live[name]
-        except Exception as error:  # noqa: BLE001
-            _live.pop(name, None)
-            print(f"mpeg4face: live preview of {name} stopped: {type(error).__name__}: {error}")
-    _remove_handler_when_idle()
+    _show_all(scene)
+
+
+@persistent
+def _on_render_init(scene: bpy.types.Scene, *_args: object) -> None:
+    global _rendering
+    _rendering = True
+    _show_all(scene)
+
+
+@persistent
+def _on_render_pre(scene: bpy.types.Scene, *_args: object) -> None:
+    # Rendering (F12, animations, scripts) shows the exact shape-key path: the live keys
+    # hold the frame being rendered.
+    if _rendering:
+        _show_all(scene)
+
+
+@persistent
+def _on_render_end(*_args: object) -> None:
+    global _rendering
+    _rendering = False
+
+
+_HANDLERS = (
+    (lambda: bpy.app.handlers.frame_change_pre, _on_frame_change),
+    (lambda: bpy.app.handlers.render_init, _on_render_init),
+    (lambda: bpy.app.handlers.render_pre, _on_render_pre),
+    (lambda: bpy.app.handlers.render_complete, _on_render_end),
+    (lambda: bpy.app.handlers.render_cancel, _on_render_end),
+)
 
 
 def _remove_handler_when_idle() -> None:
-    if not _live and _on_frame_change in bpy.app.handlers.frame_change_pre:
-        bpy.app.handlers.frame_change_pre.remove(_on_frame_change)
+    global _rendering
+    if _live:
+        return
+    _rendering = False
+    for handlers, handler in _HANDLERS:
+        if handler in handlers():
+            handlers().remove(handler)
 
 
 class MPEG4FACE_OT_live_preview(bpy.types.Operator):
@@ -412,7 +574,8 @@ class MPEG4FACE_OT_encode_fap_stream(bpy.types.Operator, ExportHelper):
     filter_glob: StringProperty(default="*.fba", options={"HIDDEN"})
     mode: EnumProperty(name="Mode", items=ENCODING_MODES, default="predictive")
     fap_quant: IntProperty(
-        name="fap_quant", description="Quantiser scale: larger is coarser (0: none)",
+        name="Quantiser scale",
+        description="fap_quant, the quantiser scale: larger is coarser (0: none)",
         default=1, min=0, max=31)
 
     def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
@@ -485,9 +648,10 @@ class MPEG4FACE_OT_speak_text(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     text: StringProperty(
-        name="Text", default="Hello <FAP 2 1 40 0 0 800 3> world",
-        description="What to say; bookmarks <FAP 2 ...> (expressions) and <FAP n ...> "
-        "(low-level FAPs) as in docs/speech.md")
+        name="Text", default="Hello world",
+        description="What to say; bookmarks add expressions and FAPs, e.g. "
+        "\"Hello <FAP 2 1 40 0 0 800 3> world\" smiles (joy at 40) from \"world\" "
+        "(docs/speech.md)")
     voice: EnumProperty(name="Voice", items=VOICES, default="kal")
     folder: StringProperty(
         name="Audio folder", subtype="DIR_PATH", default=DEFAULT_SPEECH_FOLDER,
@@ -538,10 +702,21 @@ _classes = (
 )
 
 
+@persistent
+def _clean_after_load(*_args: object) -> None:
+    """A file saved during a drawn preview keeps the modifier that empties its objects in
+    the viewport; nothing draws them after loading, so they show again (the live keys stay
+    for Stop Live Preview to remove, as documented)."""
+    for obj in bpy.data.objects:
+        if obj.type == "MESH" and obj.modifiers.get(live_draw.HIDE_MODIFIER) is not None:
+            live_draw.unhide(obj)
+
+
 def register() -> None:
     for cls in _classes:
         bpy.utils.register_class(cls)
     bpy.types.Object.mpeg4face_stream = PointerProperty(type=MPEG4FACE_PG_stream)
+    bpy.app.handlers.load_post.append(_clean_after_load)
 
 
 def unregister() -> None:
@@ -554,7 +729,10 @@ def unregister() -> None:
         except Exception:  # noqa: BLE001 - unregister must not fail
             pass
     _live.clear()
+    live_draw.clear()
     _remove_handler_when_idle()
+    if _clean_after_load in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_clean_after_load)
     del bpy.types.Object.mpeg4face_stream
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)

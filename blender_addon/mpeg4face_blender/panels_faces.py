@@ -3,9 +3,35 @@
 keys, the last "Generate FaceDefTables" report, and cloning."""
 
 import bpy
+from bpy.props import EnumProperty
 
-from . import operators_arkit, operators_faces, shape_keys
+from . import operators_arkit, operators_faces, shape_keys, ui_text
 from .panels import _Sidebar
+
+REPORTS = (("TABLES", "FaceDefTables", "The last Generate FaceDefTables report"),
+           ("ARKIT", "FAP Keys from ARKit", "The last FAP Keys from ARKit Keys report"))
+
+
+class MPEG4FACE_OT_show_report(bpy.types.Operator):
+    """Show the whole report of the active mesh's last run in a popup"""
+
+    bl_idname = "mpeg4face.show_report"
+    bl_label = "Show Report"
+    bl_options = {"REGISTER", "UNDO"}  # as every operator of the add-on (test_addon_undo)
+
+    kind: EnumProperty(items=REPORTS, default="TABLES")
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        obj = context.active_object
+        source = operators_faces.reports if self.kind == "TABLES" else operators_arkit.reports
+        report = source.get(obj.name) if obj is not None else None
+        if report is None:
+            self.report({"ERROR"}, "No report yet: run it first")
+            return {"CANCELLED"}
+        lines = report.lines()
+        ui_text.popup(context, dict((k, t) for k, t, _ in REPORTS)[self.kind], lines)
+        print("\n".join(lines))  # the whole report in the console too
+        return {"FINISHED"}
 
 
 def _grammar_keys(obj: bpy.types.Object) -> list[str]:
@@ -24,7 +50,7 @@ class MPEG4FACE_PT_shape_keys(_Sidebar, bpy.types.Panel):
         obj = context.active_object
         layout = self.layout
         named = _grammar_keys(obj)
-        layout.label(text=f"{len(named)} shape keys named for MPEG-4")
+        ui_text.label(layout, context, f"{len(named)} shape keys named for MPEG-4")
         col = layout.column(align=True)
         col.operator("mpeg4face.add_fap_shape_key", text="Add FAP Key...", icon="VIEWZOOM")
         for kind, text in (("VISEME", "Add Viseme Key..."), ("EXPRESSION", "Add Expression Key...")):
@@ -34,7 +60,9 @@ class MPEG4FACE_PT_shape_keys(_Sidebar, bpy.types.Panel):
         col.operator("mpeg4face.arkit_fap_keys", icon="SHAPEKEY_DATA")
         report = operators_arkit.reports.get(obj.name)
         if report is not None:
-            layout.label(text=report.summary(), icon="INFO")
+            ui_text.label(layout, context, report.summary(), "INFO")
+            layout.operator("mpeg4face.show_report", text="Show ARKit Report",
+                            icon="TEXT").kind = "ARKIT"
 
 
 class MPEG4FACE_PT_face_tables(_Sidebar, bpy.types.Panel):
@@ -42,6 +70,7 @@ class MPEG4FACE_PT_face_tables(_Sidebar, bpy.types.Panel):
 
     bl_label = "FaceDefTables"
     bl_parent_id = "MPEG4FACE_PT_shape_keys"
+    bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
@@ -50,10 +79,14 @@ class MPEG4FACE_PT_face_tables(_Sidebar, bpy.types.Panel):
         if report is None:
             layout.label(text="Not generated yet")
             return
-        col = layout.column(align=True)
-        for line in report.lines():
-            warn = line.startswith(("warning", "ignored"))
-            col.label(text=line, icon="ERROR" if warn else "NONE")
+        # The summary and the count of warnings here; the whole report (one line per table,
+        # ~75 on a full head) in a popup, so it does not push the other panels away.
+        lines = report.lines()
+        ui_text.label(layout, context, lines[0], "CHECKMARK")
+        warnings = sum(line.startswith(("warning", "ignored")) for line in lines)
+        if warnings:
+            ui_text.label(layout, context, f"{warnings} warnings", "ERROR")
+        layout.operator("mpeg4face.show_report", icon="TEXT").kind = "TABLES"
 
 
 class MPEG4FACE_PT_cloning(_Sidebar, bpy.types.Panel):
@@ -65,10 +98,12 @@ class MPEG4FACE_PT_cloning(_Sidebar, bpy.types.Panel):
         targets = [o.name for o in context.selected_objects
                    if o != context.active_object and o.type == "MESH"]
         layout = self.layout
-        layout.label(text=f"Source: {context.active_object.name} (active)")
-        layout.label(text=f"Targets: {', '.join(targets) if targets else 'select other meshes'}")
+        ui_text.label(layout, context, f"Source: {context.active_object.name} (active)")
+        ui_text.label(layout, context,
+                      f"Targets: {', '.join(targets) if targets else 'select other meshes'}")
         layout.operator("mpeg4face.clone_motion", icon="DUPLICATE")
 
 
-_classes = (MPEG4FACE_PT_shape_keys, MPEG4FACE_PT_face_tables, MPEG4FACE_PT_cloning)
+_classes = (MPEG4FACE_OT_show_report, MPEG4FACE_PT_shape_keys, MPEG4FACE_PT_face_tables,
+            MPEG4FACE_PT_cloning)
 register, unregister = bpy.utils.register_classes_factory(_classes)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import bpy
 
-from . import operators_stream, panels, stream_logic
+from . import operators_stream, panels, stream_logic, ui_text
 
 
 class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
@@ -16,11 +16,11 @@ class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
         layout = self.layout
         obj = context.active_object
         if obj is None or obj.type != "MESH":
-            layout.label(text="Make the head mesh the active object", icon="INFO")
+            ui_text.label(layout, context, "Make the head mesh the active object", "INFO")
             return
         count = len(operators_stream.grammar_keys(obj).keys)
-        layout.label(text=f"{count} shape keys named for FAPs",
-                     icon="CHECKMARK" if count else "ERROR")
+        ui_text.label(layout, context, f"{count} shape keys named for FAPs",
+                      "CHECKMARK" if count else "ERROR")
         col = layout.column(align=True)
         col.operator("mpeg4face.import_fap_stream", text="Import FAP Stream...", icon="IMPORT")
         col.operator("mpeg4face.import_livelink_capture", text="Import Capture (.csv)...",
@@ -31,10 +31,12 @@ class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
         if not state.filepath:
             return
         box = layout.box()
-        box.label(text=Path(bpy.path.abspath(state.filepath)).name, icon="FILE")
-        box.label(text=f"{state.frames} frames from frame {state.start_frame}")
+        ui_text.label(box, context, Path(bpy.path.abspath(state.filepath)).name, "FILE", boxes=1)
+        ui_text.label(box, context, f"{state.frames} frames from frame {state.start_frame}",
+                      boxes=1)
         if state.fit_path:
-            box.label(text=f"FIT: {Path(bpy.path.abspath(state.fit_path)).name}")
+            ui_text.label(box, context, f"FIT: {Path(bpy.path.abspath(state.fit_path)).name}",
+                          boxes=1)
         if operators_stream.is_live(obj):
             op = box.operator("mpeg4face.live_preview", text="Stop Live Preview", icon="PAUSE")
             op.action = "STOP"
@@ -43,9 +45,10 @@ class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
             op.action = "START"
         box.operator("mpeg4face.encode_fap_stream", text="Encode FAP Stream...", icon="EXPORT")
         if state.encoded_path:
-            box.label(text=f"{state.encoded_mode}: {Path(state.encoded_path).name}")
-            box.label(text=stream_logic.encoding_summary(state.bits, state.bits_per_second,
-                                                         state.psnr))
+            ui_text.label(box, context, f"{state.encoded_mode}: {Path(state.encoded_path).name}",
+                          boxes=1)
+            ui_text.label(box, context, stream_logic.encoding_summary(
+                state.bits, state.bits_per_second, state.psnr), boxes=1)
 
 
 def register() -> None:

@@ -369,7 +369,7 @@ def test_export_options_sub_panels():
 
 
 def test_panels(head):
-    from test_addon_feature_points import draw
+    from test_addon_feature_points import draw, draw_joined
 
     from mpeg4face_blender import panels_faces
 
@@ -380,7 +380,11 @@ def test_panels(head):
     assert "operator mpeg4face.mirror_shape_key: " in lines
     assert "Not generated yet" in draw(panels_faces.MPEG4FACE_PT_face_tables)
     bpy.ops.mpeg4face.generate_tables()
-    lines = draw(panels_faces.MPEG4FACE_PT_face_tables)
-    assert "1 FaceDefTables from 1 shape keys" in lines and "fap3 open_jaw: 1 vertices" in lines
-    lines = draw(panels_faces.MPEG4FACE_PT_cloning)
+    lines = draw_joined(panels_faces.MPEG4FACE_PT_face_tables)
+    # the summary in the panel, the whole report (a line per table) in a popup
+    assert "1 FaceDefTables from 1 shape keys" in lines
+    assert "operator mpeg4face.show_report: " in lines
+    assert "fap3 open_jaw: 1 vertices" in operators_faces.reports[obj.name].lines()
+    assert bpy.ops.mpeg4face.show_report(kind="TABLES") == {"FINISHED"}
+    lines = draw_joined(panels_faces.MPEG4FACE_PT_cloning)
     assert "Targets: select other meshes" in lines

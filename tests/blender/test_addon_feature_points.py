@@ -54,9 +54,23 @@ class Layout:
 
 
 def draw(panel, context=None):
+    """The panel's labels and buttons; a label wrapped to the panel's width (its lines after
+    the first are marked BLANK1, or follow an icon-less one) read as one."""
     layout = Layout()
     panel.draw(SimpleNamespace(layout=layout), context or bpy.context)
     return [text for text, _ in layout.log]
+
+
+def draw_joined(panel, context=None):
+    layout = Layout()
+    panel.draw(SimpleNamespace(layout=layout), context or bpy.context)
+    out = []
+    for text, icon in layout.log:
+        if icon == "BLANK1" and out:
+            out[-1] += " " + text
+        else:
+            out.append(text)
+    return out
 
 
 def test_assign_and_reassign(candide_head):
@@ -136,14 +150,16 @@ def test_panels_draw_the_state(candide_head):
     properties.fill_all()  # as after a file load (no event loop runs the timer here)
     bpy.context.view_layer.objects.active = obj
     es0 = mpeg4face.measure_fapu(model).es0.value
-    main = draw(panels.MPEG4FACE_PT_feature_points)
+    main = draw_joined(panels.MPEG4FACE_PT_feature_points)
     assert "missing for FAPU: 3.5, 3.6" in main
     assert "complete for cloning" in main
     assert "operator mpeg4face.assign_feature_point: Assign 2.1 to Selected Vertex" in main
     fapu = draw(panels.MPEG4FACE_PT_fapu)
-    assert fapu[0] == f"ES0 = {es0:.5g}   FAPU = {es0 / 1024:.5g}"
-    assert fapu[1] == "    from 3.7, 3.11, 3.8, 3.12: |(3.7+3.11)/2 - (3.8+3.12)/2|"
-    warnings = draw(panels.MPEG4FACE_PT_location_warnings)
+    assert fapu[:2] == [f"ES0 = {es0:.5g}", f"    FAPU = {es0 / 1024:.5g}"]
+    # the points and the formula, wrapped to the panel's width (indented lines)
+    assert [line.strip() for line in fapu[2:4]] == ["from 3.7, 3.11, 3.8, 3.12:",
+                                                    "|(3.7+3.11)/2 - (3.8+3.12)/2|"]
+    warnings = draw_joined(panels.MPEG4FACE_PT_location_warnings)
     assert len(warnings) == 5 and warnings[0].startswith("4.3.x differs from")
 
     # The list's rows: set with the vertex, or missing; the F / C flags.
@@ -157,23 +173,23 @@ def test_panels_draw_the_state(candide_head):
             None, bpy.context, layout, wm, item, 0, wm, "mpeg4face_feature_point_index", index)
         return layout.log
 
-    assert row("9.15") == [("9.15 Bottom middle edge of nose", "CHECKMARK"),
-                           (f"vertex {fp_vertices['9.15']}", "NONE"), ("F", "NONE"), ("C", "NONE")]
-    assert row("3.5") == [("3.5 Center of the pupil of left eye", "X"), ("missing", "NONE"),
-                          ("F", "NONE"), ("", "NONE")]
+    assert row("9.15") == [("9.15", "CHECKMARK"), (f"v {fp_vertices['9.15']}", "NONE"),
+                           ("FC", "NONE")]
+    assert row("3.5") == [("3.5", "X"), ("missing", "NONE"), ("F", "NONE")]
 
     # Removing 9.15: the FAPU that need it say so, after the next depsgraph update.
     obj.vertex_groups.remove(obj.vertex_groups["FP_9.15"])
     bpy.context.view_layer.update()
     panels._forget()
-    fapu = draw(panels.MPEG4FACE_PT_fapu)
+    fapu = draw_joined(panels.MPEG4FACE_PT_fapu)
     assert "MNS0 unmeasured: needs 9.15 and 2.2" in fapu
-    assert "missing for FAPU: 3.5, 3.6, 9.15" in draw(panels.MPEG4FACE_PT_feature_points)
+    assert "missing for FAPU: 3.5, 3.6, 9.15" in draw_joined(panels.MPEG4FACE_PT_feature_points)
 
 
 def test_panel_without_a_mesh(candide_head):
     bpy.context.view_layer.objects.active = None
-    assert draw(panels.MPEG4FACE_PT_feature_points) == ["Make the head mesh the active object"]
+    assert draw_joined(panels.MPEG4FACE_PT_feature_points) == [
+        "Make the head mesh the active object"]
     assert draw(panels.MPEG4FACE_PT_fapu) == []
 
 

@@ -34,9 +34,18 @@ def test_previewed_stream_moves_the_mouth_in_the_viewport(tmp_path):
     # Mean change of a colour channel (0..1) over the box around the feature points.
     assert result["mouth_change"] > 0.01, result
     assert result["forehead_change"] < result["mouth_change"] / 20, result
+    # The live preview drawn with the gpu module: the face is there (the head hidden), and
+    # its mouth moves with the stream as the baked one does.
+    assert result["live_hidden"] and result["live_face_drawn"] > 0.05, result
+    assert result["live_mouth_change"] > 0.01, result
+    assert result["live_forehead_change"] < result["live_mouth_change"] / 20, result
+    # Every panel of the tab reads at the sidebar's default width (layout_check.py, in the
+    # real sidebar with the sample head's panels filled).
+    assert result["sidebar_width"] == 229 and result["cut"] == {}, result["cut"]
     # The export's file browser drew its options sub-panels.
     assert result["export_panels"] == ["FaceDefTables", "Head"], result
-    for name in ("viewport_neutral.png", "viewport_open_jaw.png", "blender_sidebar.png",
+    for name in ("viewport_neutral.png", "viewport_open_jaw.png", "blender_sidebar.png", "viewport_live_open_jaw.png",
+                 "blender_sidebar_229.png", "blender_sidebar_keys_229.png",
                  "blender_sidebar_keys.png", "blender_export.png", "blender_import.png",
                  "blender_import_capture.png"):
         assert (out / name).stat().st_size > 10_000, name

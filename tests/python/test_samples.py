@@ -201,7 +201,13 @@ def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
         " 'keys': len(o.data.shape_keys.key_blocks) if o.type == 'MESH' and o.data.shape_keys"
         " else 0, 'fp': sorted(g.name for g in o.vertex_groups) if o.type == 'MESH' else []}"
         " for o in s.objects} | {'markers': sorted(m.name for m in s.timeline_markers),"
-        " 'camera': s.camera.name}))\n")
+        " 'camera': s.camera.name, 'frame': s.frame_current,"
+        " 'active': bpy.context.view_layer.objects.active.name,"
+        " 'selected': sorted(o.name for o in s.objects if o.select_get()),"
+        " 'views': [((s.camera.location - v.region_3d.view_location).length"
+        " - s.camera.data.display_size,"
+        " v.region_3d.view_distance) for sc in bpy.data.screens for a in sc.areas"
+        " for v in a.spaces if v.type == 'VIEW_3D']}))\n")
     result = subprocess.run(["blender", "-b", str(blend), "--python-exit-code", "1",
                              "--python-expr", probe], check=True, capture_output=True, text=True)
     line = next(x for x in result.stdout.splitlines() if x.startswith("PROBE "))
@@ -216,6 +222,12 @@ def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
     assert "neutral" in scene["markers"] and "fap23_yaw_l_eyeball@20000" in scene["markers"]
     assert "viseme10" in scene["markers"]  # the viseme's jaw pose
     assert scene["camera"] == "Camera"
+    # Ready to use: at frame 1 (not at the neutral marker's 1000), the head active and
+    # selected alone, every 3D view closer to the face than the camera's wireframe (then
+    # behind the view's eye, not over the face).
+    assert scene["frame"] == 1
+    assert scene["active"] == "MakeHuman head" and scene["selected"] == ["MakeHuman head"]
+    assert scene["views"] and all(camera > 1.2 * view for camera, view in scene["views"])
 
     # The add-on exports it as the CLI does the .glb: the same tables, poses included.
     wrl = tmp_path / "from_blender.wrl"
@@ -232,6 +244,23 @@ def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
     subprocess.run(["blender", "-b", str(blend), "--python-exit-code", "1", "--python-expr",
                     export], check=True, env=env, capture_output=True)
     from_blender = mpeg4face.read_vrml(wrl).tables
+    # The FAPU panel reads the face across its parts: the pupils are on the eyeballs.
+    fapu = (
+        "import sys\n"
+        f"sys.path.insert(0, {str(ROOT / 'samples')!r})\n"
+        "import blender_session\n"
+        "blender_session.start()\n"
+        "import bpy\n"
+        "from mpeg4face_blender import panels\n"
+        "state = panels.face_state(bpy.context)\n"
+        "print('FAPU', [r.name for r in state.fapu if not r.measured],"
+        " sorted(state.part_points.items()))\n")
+    result = subprocess.run(["blender", "-b", str(blend), "--python-exit-code", "1",
+                             "--python-expr", fapu], check=True, env=env, capture_output=True,
+                            text=True)
+    line = next(x for x in result.stdout.splitlines() if x.startswith("FAPU "))
+    assert line.startswith("FAPU [] [('3.5', 'eye_left'), ('3.6', 'eye_right'), ") and (
+        "('9.11', 'teeth_lower')" in line), line
     from_gltf = mpeg4face.generate_face(mpeg4face.read_gltf(built / "makehuman_head.glb"))
     assert sorted((t["fap"], t["select"]) for t in from_blender) == sorted(
         (t["fap"], t["select"]) for t in from_gltf["face"].tables)

@@ -69,14 +69,62 @@ def show_only_our_sidebar_tab():
 
 
 def open_every_panel():
-    """Panels closed by default (Location Warnings, Cloning) registered open, before they
-    are first drawn, so that the screenshots show them."""
+    """The sub-panels (closed by default) registered open, before they are first drawn, so
+    that the screenshots show them."""
     from mpeg4face_blender import panels, panels_faces
 
-    for panel in (panels.MPEG4FACE_PT_location_warnings, panels_faces.MPEG4FACE_PT_cloning):
+    for panel in (panels.MPEG4FACE_PT_fapu, panels.MPEG4FACE_PT_location_warnings,
+                  panels_faces.MPEG4FACE_PT_face_tables, panels_faces.MPEG4FACE_PT_cloning):
         bpy.utils.unregister_class(panel)
         panel.bl_options = panel.bl_options - {"DEFAULT_CLOSED"}
         bpy.utils.register_class(panel)
+
+
+def our_panels():
+    def subclasses(cls):
+        for sub in cls.__subclasses__():
+            yield from subclasses(sub)
+            yield sub
+
+    return [p for p in subclasses(bpy.types.Panel)
+            if getattr(p, "bl_category", "") == "MPEG-4" and p.is_registered]
+
+
+def cut_in_the_sidebar():
+    """layout_check on every panel of the tab in the real sidebar (its width, the UI's
+    scale), the feature point list's rows too: {panel: [cut texts]} and the width."""
+    import layout_check
+    from mpeg4face_blender import panels
+
+    window, area, region = view3d()
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    with bpy.context.temp_override(window=window, area=area, region=sidebar):
+        context = bpy.context
+        cut = {p.__name__: layout_check.cut_labels(p, context, sidebar.width)
+               for p in our_panels()}
+        cut["feature point list"] = layout_check.cut_list_rows(
+            panels.MPEG4FACE_UL_feature_points, context, sidebar.width,
+            context.window_manager, "mpeg4face_feature_points")
+    return {k: v for k, v in cut.items() if v}, sidebar.width
+
+
+def sidebar_picture(window_png, name):
+    """The sidebar cut out of a window screenshot, for the user guide."""
+    window, area, _ = view3d()
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    image = bpy.data.images.load(str(window_png))
+    width, height = image.size
+    rgba = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)
+    bpy.data.images.remove(image)
+    # window coordinates: the screenshot is the window, rows bottom-up
+    x0, y0 = sidebar.x, sidebar.y  # window-relative, as the screenshot
+    crop = rgba[y0:y0 + sidebar.height, x0:x0 + sidebar.width]
+    out = bpy.data.images.new(name, crop.shape[1], crop.shape[0], alpha=True)
+    out.pixels.foreach_set(crop.ravel())
+    out.filepath_raw = str(OUT / name)
+    out.file_format = "PNG"
+    out.save()
+    bpy.data.images.remove(out)
 
 
 def set_up():
@@ -245,13 +293,36 @@ def steps():
     window, _, _ = view3d()
     with bpy.context.temp_override(window=window):
         bpy.ops.screen.screenshot(filepath=str(OUT / "blender_sidebar.png"))
+    sidebar_picture(OUT / "blender_sidebar.png", "blender_sidebar_229.png")
+    cut, sidebar_width = cut_in_the_sidebar()
     scene.frame_set(open_frame)
     yield
     opened = screenshot("viewport_open_jaw.png")
+    # The live preview, drawn with the gpu module over the hidden head (and the view
+    # without the head, to tell that something is drawn there).
+    obj.hide_set(True)
+    yield
+    empty = screenshot("viewport_empty.png")
+    obj.hide_set(False)
+    window, area, region = view3d()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
+    scene.frame_set(neutral_frame)
+    yield
+    live_neutral = screenshot("viewport_live_neutral.png")
+    scene.frame_set(open_frame)
+    yield
+    live_opened = screenshot("viewport_live_open_jaw.png")
+    live_hidden = len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices) == 0
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
     show_shape_key_panels(obj)
     yield
     with bpy.context.temp_override(window=window):
         bpy.ops.screen.screenshot(filepath=str(OUT / "blender_sidebar_keys.png"))
+    sidebar_picture(OUT / "blender_sidebar_keys.png", "blender_sidebar_keys_229.png")
+    cut_keys, _ = cut_in_the_sidebar()
+    cut.update(cut_keys)
     from mpeg4face_blender import export
 
     export_panels = yield from file_browser_screenshot(
@@ -264,6 +335,7 @@ def steps():
         bpy.ops.mpeg4face.import_livelink_capture, "blender_import_capture.png",
         DATA / "livelink-face" / "MySlate_3_Jason_Millers_iPhone.csv")
     a, b = pixels(neutral), pixels(opened)
+    live_a, live_b = pixels(live_neutral), pixels(live_opened)
     result = {
         "neutral_frame": neutral_frame,
         "open_jaw_frame": open_frame,
@@ -273,8 +345,15 @@ def steps():
         "forehead_box": forehead,
         "mouth_change": change(a, b, mouth),
         "forehead_change": change(a, b, forehead),
+        "live_mouth_change": change(live_a, live_b, mouth),
+        "live_forehead_change": change(live_a, live_b, forehead),
+        "live_hidden": live_hidden,
+        # the drawn face where the solid one was: both differ from the empty background
+        "live_face_drawn": change(live_a, pixels(empty), forehead),
         "image_size": list(a.shape[:2]),
         "export_panels": export_panels,
+        "sidebar_width": sidebar_width,
+        "cut": cut,
     }
     (OUT / "result.json").write_text(json.dumps(result, indent=1))
 
