@@ -385,7 +385,7 @@ TEST(DctCodec, ReconstructionOfAConstantFollowsTheQuantiser) {
 TEST(DctCodec, DcIsPredictedFromThePreviousSegment) {
   // A constant FAP costs its DC level once: each later segment is a plane header (4 bits),
   // segment_length (4 bits), the adapted flags skips, same_mask and partial, a zero DC
-  // difference and end_of_segment (well under a bit each once adapted) and the coder's flush
+  // difference and coded_block 0 (well under a bit each once adapted) and the coder's flush
   // (2-3 bits): about 14 bits, and surely under 20.
   auto bits = [](int frames) {
     FapStream s;
@@ -396,6 +396,22 @@ TEST(DctCodec, DcIsPredictedFromThePreviousSegment) {
     return encodeFba(s, dct()).stats.bits;
   };
   EXPECT_LT(bits(16 * 21) - bits(16), 20u * 20);
+}
+
+TEST(DctCodec, StepsFollowEachFapsRange) {
+  // The smooth stream's FAPs span 150 to 20000 FAPU; each gets a step in proportion to its
+  // range, so each comes back with about the same PSNR of its own (the robust PSNR's optimum).
+  const FapStream s = smoothStream(300);
+  for (const int q : {4, 16, 28}) {
+    const FapComparison c =
+        compareFapStreams(s, comparable(s, encodeFba(s, dct(q)).reconstruction));
+    double lo = INFINITY, hi = -INFINITY;
+    for (const FapError& e : c.faps) {
+      ASSERT_TRUE(e.psnr.has_value());
+      lo = std::min(lo, *e.psnr), hi = std::max(hi, *e.psnr);
+    }
+    EXPECT_LT(hi - lo, 6.0) << "fap_quant " << q << ": " << lo << ".." << hi << " dB";
+  }
 }
 
 TEST(DctCodec, FinerStepsGiveHigherPsnrForMoreBits) {

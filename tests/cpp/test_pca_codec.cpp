@@ -252,6 +252,23 @@ TEST(PcaCodec, AutoIsNeverWorseThanTheBestSingleModeIncludingPca) {
   }
 }
 
+TEST(PcaCodec, KeepsEnoughComponentsForTheRobustTarget) {
+  // By energy alone (0.98) PCA drops the components of the least-moving FAPs, which the robust
+  // PSNR weighs most; with the residual rule finer fap_quant keeps more components and joy
+  // reaches 25 dB robust.
+  const FapStream s = readFapFile(xfacePath("joy"));
+  int kept31 = 0, kept1 = 0;
+  for (const PcaGroup& g : pcaGroups(s, pca(31))) kept31 += g.components;
+  for (const PcaGroup& g : pcaGroups(s, pca(1))) kept1 += g.components;
+  EXPECT_GT(kept1, kept31);
+  double best = 0;
+  for (const int q : {1, 4, 8}) {
+    const RdPoint p = measureEncoding(s, pca(q, FapCodingMode::Dct));
+    best = std::max(best, p.robustPsnr.value_or(0));
+  }
+  EXPECT_GE(best, 25.0);
+}
+
 TEST(PcaCodec, SweepsCoverBothComponentCoders) {
   const FapStream s = readFapFile(xfacePath("joy"));
   const std::array modes{FapCodingMode::Pca};
