@@ -16,6 +16,7 @@
 #include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/fit_learn.hpp"
+#include "mpeg4face/spec.hpp"
 #include "quality.hpp"
 
 namespace mpeg4face::cli {
@@ -69,6 +70,8 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       out.options.pcaBasisBits = intArgument(args, i, 1, 15);
     } else if (a == "--intra-period") {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
+    } else if (a == "--vos") {
+      out.options.visualObjectSequence = true;
     } else if (a == "--json") {
       out.json = true;
     } else if (a == "--fit") {
@@ -144,6 +147,10 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   const FapComparison quality = compareFapStreams(input, decoded);
   bool lossless = quality.visemeMismatches == 0 && quality.expressionMismatches == 0;
   for (const FapError& e : quality.faps) lossless &= e.maxAbs == 0;
+  const FapError* worst = nullptr;  // the FAP with the largest error
+  for (const FapError& e : quality.faps) {
+    if (!worst || e.maxAbs > worst->maxAbs) worst = &e;
+  }
   const auto bits = static_cast<double>(enc.stats.bits);
   const double rate = input.frames.empty() ? 0.0 : bitsPerSecond(bits, input);
 
@@ -171,6 +178,7 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     j["bits_per_second"] = rate;
     j["intra_frames"] = enc.stats.intraFrames;
     j["clipped_values"] = enc.stats.clippedValues;
+    j["largest_error"] = worst ? worst->maxAbs : 0;
     j["lossless"] = lossless;
     for (const auto& [key, db] :
          {std::pair{"psnr_db", quality.psnr}, std::pair{"robust_psnr_db", quality.robustPsnr}}) {
@@ -207,6 +215,10 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   std::printf("robust PSNR %s (10 log10(1 / mean MSE_i/R_i^2), the worst FAPs count)\n",
               decibels(quality.robustPsnr).c_str());
   if (enc.stats.clippedValues > 0) {
+    // Eq. (8) can still say inf here (one FAP exact): the clipping is what the user must see.
+    std::printf("clipped: %d values, largest error %lld FAP units (FAP %d %s)\n",
+                enc.stats.clippedValues, worst->maxAbs, worst->fap,
+                std::string(fapInfo(worst->fap).name).c_str());
     std::fprintf(stderr,
                  "warning: %d values lay outside the codable range and were sent clipped "
                  "(the prediction catches up on later frames)%s\n",

@@ -208,7 +208,8 @@ TEST(PcaCodec, DecoderReproducesTheEncoderOnEveryXfaceStream) {
   }
 }
 
-// The cheapest (mode, component coder, fap_quant) reaching `db`, by a loop of its own.
+// The cheapest (mode, component coder, fap_quant) reaching `db` of the robust PSNR (what
+// --mode auto judges by), by a loop of its own.
 uint64_t cheapestBitsByHand(const FapStream& s, double db) {
   uint64_t best = std::numeric_limits<uint64_t>::max();
   const auto tryOptions = [&](const FbaEncodeOptions& o) {
@@ -232,7 +233,7 @@ uint64_t cheapestBitsByHand(const FapStream& s, double db) {
 TEST(PcaCodec, AutoIsNeverWorseThanTheBestSingleModeIncludingPca) {
   for (const std::string& name : {std::string("joy"), std::string("test"), std::string("beg")}) {
     const FapStream s = readFapFile(xfacePath(name));
-    for (const double db : {30.0, 40.0}) {
+    for (const double db : {25.0, 35.0}) {
       const uint64_t byHand = cheapestBitsByHand(s, db);
       const std::optional<RdPoint> best = cheapestEncoding(s, db, allCodingModes());
       ASSERT_TRUE(best.has_value()) << name;
