@@ -16,6 +16,8 @@
 #include "mpeg4face/fba_codec.hpp"
 #include "mpeg4face/file_io.hpp"
 #include "mpeg4face/fit_learn.hpp"
+#include "mpeg4face/spec.hpp"
+#include "quality.hpp"
 
 namespace mpeg4face::cli {
 namespace {
@@ -24,9 +26,11 @@ struct EncodeArgs {
   std::string input;
   std::string output;
   FbaEncodeOptions options;
-  // --mode auto: the fewest-bit mode and fap_quant that reaches psnrTarget (fap_rd.hpp).
+  // --mode auto: the fewest-bit mode and fap_quant that reaches psnrTarget by `quality`
+  // (fap_rd.hpp).
   bool autoMode = false;
   std::optional<double> psnrTarget;
+  FapQuality quality = FapQuality::Robust;
   bool fapQuantGiven = false;
   bool pcaTemporalGiven = false;
   bool json = false;
@@ -50,6 +54,8 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       const std::string& text = optionValue(args, i, "a target in dB");
       out.psnrTarget = parseNumber(text);
       if (!out.psnrTarget) throw UsageError("--psnr takes a number of dB, not '" + text + "'");
+    } else if (a == "--quality") {
+      out.quality = qualityArgument(args, i);
     } else if (a == "--fap-quant") {
       out.options.fapQuant = intArgument(args, i, 0, 31);
       out.fapQuantGiven = true;
@@ -64,6 +70,8 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       out.options.pcaBasisBits = intArgument(args, i, 1, 15);
     } else if (a == "--intra-period") {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
+    } else if (a == "--vos") {
+      out.options.visualObjectSequence = true;
     } else if (a == "--json") {
       out.json = true;
     } else if (a == "--fit") {
@@ -117,10 +125,11 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   try {
     if (args.autoMode) {
       const std::optional<RdPoint> best =
-          cheapestEncoding(sent, *args.psnrTarget, allCodingModes(), args.options);
+          cheapestEncoding(sent, *args.psnrTarget, allCodingModes(), args.options, args.quality);
       if (!best) {
         throw Error({}, 0, "PSNR target",
-                    "no mode and fap_quant reaches " + decibels(args.psnrTarget));
+                    "no mode and fap_quant reaches " + decibels(args.psnrTarget) + " of " +
+                        qualityLabel(args.quality));
       }
       args.options.mode = best->mode;
       args.options.pcaTemporal = best->pcaTemporal;
@@ -138,6 +147,10 @@ int runEncode(const std::vector<std::string>& rawArgs) {
   const FapComparison quality = compareFapStreams(input, decoded);
   bool lossless = quality.visemeMismatches == 0 && quality.expressionMismatches == 0;
   for (const FapError& e : quality.faps) lossless &= e.maxAbs == 0;
+  const FapError* worst = nullptr;  // the FAP with the largest error
+  for (const FapError& e : quality.faps) {
+    if (!worst || e.maxAbs > worst->maxAbs) worst = &e;
+  }
   const auto bits = static_cast<double>(enc.stats.bits);
   const double rate = input.frames.empty() ? 0.0 : bitsPerSecond(bits, input);
 
@@ -149,7 +162,10 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     if (args.options.mode == FapCodingMode::Pca) {
       j["pca_temporal"] = codingModeName(args.options.pcaTemporal);
     }
-    if (args.autoMode) j["psnr_target_db"] = *args.psnrTarget;
+    if (args.autoMode) {
+      j["psnr_target_db"] = *args.psnrTarget;
+      j["quality"] = fapQualityName(args.quality);
+    }
     j["fap_quant"] = args.options.fapQuant;
     j["intra_period"] = args.options.intraPeriod;
     if (table) {
@@ -162,13 +178,17 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     j["bits_per_second"] = rate;
     j["intra_frames"] = enc.stats.intraFrames;
     j["clipped_values"] = enc.stats.clippedValues;
+    j["largest_error"] = worst ? worst->maxAbs : 0;
     j["lossless"] = lossless;
-    if (!quality.psnr) {
-      j["psnr_db"] = nullptr;
-    } else if (std::isinf(*quality.psnr)) {
-      j["psnr_db"] = "inf";
-    } else {
-      j["psnr_db"] = *quality.psnr;
+    for (const auto& [key, db] :
+         {std::pair{"psnr_db", quality.psnr}, std::pair{"robust_psnr_db", quality.robustPsnr}}) {
+      if (!db) {
+        j[key] = nullptr;
+      } else if (std::isinf(*db)) {
+        j[key] = "inf";
+      } else {
+        j[key] = *db;
+      }
     }
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
@@ -185,14 +205,20 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     std::printf("%s: %d values left out, the decoder derives them\n", args.fit.c_str(), leftOut);
   }
   if (args.autoMode) {
-    std::printf("auto: the fewest bits of every mode and fap_quant reaching %s\n",
-                decibels(args.psnrTarget).c_str());
+    std::printf("auto: the fewest bits of every mode and fap_quant reaching %s of %s\n",
+                decibels(args.psnrTarget).c_str(), qualityLabel(args.quality).c_str());
   }
   std::printf("bits %llu (%zu bytes), %.1f bits/s\n",
               static_cast<unsigned long long>(enc.stats.bits), enc.bytes.size(), rate);
   std::printf("PSNR %s over %d FAPs (Tao et al. 1999, eq. 8)%s\n", decibels(quality.psnr).c_str(),
               quality.psnrFaps, lossless ? "; lossless" : "");
+  std::printf("robust PSNR %s (10 log10(1 / mean MSE_i/R_i^2), the worst FAPs count)\n",
+              decibels(quality.robustPsnr).c_str());
   if (enc.stats.clippedValues > 0) {
+    // Eq. (8) can still say inf here (one FAP exact): the clipping is what the user must see.
+    std::printf("clipped: %d values, largest error %lld FAP units (FAP %d %s)\n",
+                enc.stats.clippedValues, worst->maxAbs, worst->fap,
+                std::string(fapInfo(worst->fap).name).c_str());
     std::fprintf(stderr,
                  "warning: %d values lay outside the codable range and were sent clipped "
                  "(the prediction catches up on later frames)%s\n",

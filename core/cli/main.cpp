@@ -21,26 +21,33 @@ constexpr std::array kCommands{
             "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
             mpeg4face::cli::runInfo},
     Command{"psnr", "compare a decoded .fap stream with its original: PSNR, per-FAP errors",
-            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--json]\n"
-            "  PSNR as Tao et al. (1999) eq. (8) defines it (docs/fap-format.md), and each\n"
-            "  FAP's range, largest and RMS error; both streams need the same frames\n"
+            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--quality robust|tao] [--json]\n"
+            "  PSNR as Tao et al. (1999) eq. (8) defines it (docs/fap-format.md), the robust\n"
+            "  PSNR (docs/rate-distortion.md), and each FAP's range, largest and RMS error;\n"
+            "  both streams need the same frames\n"
+            "  --quality Q  robust (default) or tao: the PSNR printed first\n"
             "  --json  print one JSON object (keys psnr_db, psnr_faps, faps, extra_faps)\n",
             mpeg4face::cli::runPsnr},
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
             "mpeg4face encode IN.fap -o OUT.fba [--mode predictive|dct|pca] [--fap-quant Q]\n"
-            "                 [--intra-period N] [--pca-temporal T] [--pca-basis-bits B] [--json]\n"
-            "                 | --mode auto --psnr DB  [--fit TABLE.json]\n"
+            "                 [--intra-period N] [--pca-temporal T] [--pca-basis-bits B] [--vos]\n"
+            "                 [--json]\n"
+            "                 | --mode auto --psnr DB [--quality robust|tao]  [--fit TABLE.json]\n"
             "  --mode M          predictive (default): quantised differences, arithmetic coded\n"
             "                    dct: 16-frame segments, a DCT per FAP (docs/dct-mode.md)\n"
             "                    pca: KLT per FAP group, basis in the header (docs/pca-mode.md)\n"
             "                    auto: the mode and fap_quant with the fewest bits whose PSNR\n"
             "                    reaches --psnr DB (every mode and fap_quant tried)\n"
+            "  --quality Q       the PSNR auto judges by: robust (default; the worst FAPs\n"
+            "                    count) or tao (eq. 8; docs/rate-distortion.md)\n"
             "  --fap-quant Q     0..31 (default 1): each FAP's step is its QP times Q; 0 is\n"
             "                    lossless for |value| <= 1860\n"
             "  --pca-temporal T  pca only: code the components predictive (default) or dct\n"
             "  --pca-basis-bits B  pca: fraction bits of the basis sent, 1..15 (default 4)\n"
             "  --intra-period N  an intra frame at least every N frames (default 0: only the\n"
             "                    first frame and where the set of FAPs changes)\n"
+            "  --vos    start with visual_object_sequence and visual_object headers (a\n"
+            "           14496-2 elementary stream; decode reads both forms)\n"
             "  --fit T  leave out the FAPs that FAP Interpolation Table T derives from the rest\n"
             "           (the PSNR counts them as the decoder interpolates them)\n"
             "  --json  print one JSON object (keys bits, bits_per_second, psnr_db, ...)\n",
@@ -50,9 +57,12 @@ constexpr std::array kCommands{
             "  --fit T  fill the FAPs a frame lacks with FAP Interpolation Table T\n",
             mpeg4face::cli::runDecode},
     Command{"rd", "rate-distortion of a .fap stream: every mode and fap_quant, CSV and plot",
-            "mpeg4face rd IN.fap --csv OUT.csv [--plot OUT.png]\n"
+            "mpeg4face rd IN.fap --csv OUT.csv [--plot OUT.png] [--quality robust|tao]\n"
             "  --csv F   one row per encoding: mode, fap_quant, bits, bits_per_sample,\n"
-            "            bits_per_second, psnr_db (inf when a FAP is exact; empty if undefined)\n"
+            "            bits_per_second, psnr_db (Tao et al. eq. 8: inf when a FAP is exact;\n"
+            "            empty if undefined), robust_psnr_db (inf only when all are exact)\n"
+            "  --quality Q  robust (default) or tao: the PSNR the plot and the printed\n"
+            "               cheapest encodings at 20, 25, 30, 35 dB use\n"
             "  --plot F  PSNR against bit rate, one curve per mode (scripts/rd_plot.py, needs\n"
             "            python3-matplotlib; MPEG4FACE_RD_PLOT overrides the script's path)\n",
             mpeg4face::cli::runRd},

@@ -4,6 +4,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +18,7 @@
 #include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fap_rd.hpp"
 #include "mpeg4face/file_io.hpp"
+#include "quality.hpp"
 
 namespace mpeg4face::cli {
 namespace {
@@ -24,6 +27,7 @@ struct RdArgs {
   std::string input;
   std::string csv;
   std::string plot;
+  FapQuality quality = FapQuality::Robust;
 };
 
 RdArgs parseArgs(const std::vector<std::string>& args) {
@@ -32,6 +36,8 @@ RdArgs parseArgs(const std::vector<std::string>& args) {
     const std::string& a = args[i];
     if (a == "--csv" || a == "--plot") {
       (a == "--csv" ? out.csv : out.plot) = optionValue(args, i, "a file name");
+    } else if (a == "--quality") {
+      out.quality = qualityArgument(args, i);
     } else if (a.starts_with("-")) {
       throw UsageError("unknown option '" + a + "'");
     } else if (out.input.empty()) {
@@ -55,27 +61,59 @@ std::string psnrField(const std::optional<double>& db) {
 }
 
 std::string csvText(const std::vector<RdPoint>& points) {
-  std::string text = "mode,fap_quant,bits,bits_per_sample,bits_per_second,psnr_db\n";
+  std::string text = "mode,fap_quant,bits,bits_per_sample,bits_per_second,psnr_db,robust_psnr_db\n";
   for (const RdPoint& p : points) {
     char buffer[128];
     std::snprintf(buffer, sizeof buffer, "%s,%d,%llu,%.6f,%.3f,", rdModeName(p).c_str(), p.fapQuant,
                   static_cast<unsigned long long>(p.bits), p.bitsPerSample, p.bitsPerSecond);
-    text += buffer + psnrField(p.psnr) + "\n";
+    text += buffer + psnrField(p.psnr) + "," + psnrField(p.robustPsnr) + "\n";
   }
   return text;
 }
 
-// Runs /usr/bin/python3 rd_plot.py CSV PNG TITLE (no shell, so names need no quoting). The
+// For each mode, the fewest bits per FAP sample that reach 20, 25, 30 and 35 dB by `quality`.
+void printCheapest(const std::vector<RdPoint>& points, FapQuality quality) {
+  constexpr std::array kTargets{20.0, 25.0, 30.0, 35.0};
+  std::printf("bits per FAP sample of the cheapest encoding reaching the %s:\n%-16s",
+              qualityLabel(quality).c_str(), "mode");
+  for (const double t : kTargets) std::printf("  %5.0f dB", t);
+  std::printf("\n");
+  std::vector<std::string> names;
+  for (const RdPoint& p : points) {
+    if (std::find(names.begin(), names.end(), rdModeName(p)) == names.end()) {
+      names.push_back(rdModeName(p));
+    }
+  }
+  for (const std::string& name : names) {
+    std::vector<RdPoint> ofMode;
+    for (const RdPoint& p : points) {
+      if (rdModeName(p) == name) ofMode.push_back(p);
+    }
+    std::printf("%-16s", name.c_str());
+    for (const double t : kTargets) {
+      const std::optional<RdPoint> best = cheapestMeeting(ofMode, t, quality);
+      if (best) {
+        std::printf("  %8.3f", best->bitsPerSample);
+      } else {
+        std::printf("  %8s", "-");
+      }
+    }
+    std::printf("\n");
+  }
+}
+
+// Runs /usr/bin/python3 rd_plot.py CSV PNG TITLE COLUMN (no shell, so names need no quoting). The
 // script is found through MPEG4FACE_RD_PLOT, else in the source tree's scripts/.
-void plot(const std::string& csv, const std::string& png, const std::string& title) {
+void plot(const std::string& csv, const std::string& png, const std::string& title,
+          const std::string& column) {
   const char* env = std::getenv("MPEG4FACE_RD_PLOT");
   const std::string script = env ? env : MPEG4FACE_SCRIPTS_DIR "/rd_plot.py";
   std::fflush(stdout);
   const pid_t pid = fork();
   if (pid < 0) throw Error(png, 0, "plot", "cannot start /usr/bin/python3");
   if (pid == 0) {
-    const char* argv[] = {"/usr/bin/python3", script.c_str(), csv.c_str(),
-                          png.c_str(),        title.c_str(),  nullptr};
+    const char* argv[] = {"/usr/bin/python3", script.c_str(), csv.c_str(), png.c_str(),
+                          title.c_str(),      column.c_str(), nullptr};
     execv(argv[0], const_cast<char* const*>(argv));
     _exit(127);
   }
@@ -108,8 +146,10 @@ int runRd(const std::vector<std::string>& rawArgs) {
   std::printf("%s: %zu frames at %g Hz, %zu FAP samples; %zu encodings written to %s\n",
               args.input.c_str(), input.frames.size(), input.frameRate, fapSampleCount(input),
               points.size(), args.csv.c_str());
+  printCheapest(points, args.quality);
   if (!args.plot.empty()) {
-    plot(args.csv, args.plot, std::filesystem::path(args.input).filename().string());
+    plot(args.csv, args.plot, std::filesystem::path(args.input).filename().string(),
+         args.quality == FapQuality::Robust ? "robust_psnr_db" : "psnr_db");
     std::printf("plot written to %s\n", args.plot.c_str());
   }
   return 0;

@@ -2,6 +2,7 @@
 #include "mpeg4face/arithmetic_coder.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <string>
@@ -106,6 +107,28 @@ void ArithmeticEncoder::encodeUniform(int symbol, int symbolCount) {
 void ArithmeticEncoder::encodeBits(uint32_t bits, int count) {
   const uint32_t upper = (1u << count) - bits;
   narrow(upper - 1, upper, shiftedBy(count));
+}
+
+// A 0 spans the top `zero` of 4096, as symbol 0 of a model does.
+void ArithmeticEncoder::encodeBit(bool bit, BinaryContext& context) {
+  const uint32_t split = BinaryContext::kOne - context.zero;
+  if (bit)
+    narrow(0, split, shiftedBy(BinaryContext::kBits));
+  else
+    narrow(split, BinaryContext::kOne, shiftedBy(BinaryContext::kBits));
+  context.update(bit);
+}
+
+double BinaryContext::idealBits(bool bit) const {
+  // Indexed by the probability in 1/256: the encoder asks often, and 1/256 is close enough.
+  static const auto table = [] {
+    std::array<double, 257> t{};
+    for (size_t i = 0; i < t.size(); ++i)
+      t[i] = -std::log2(std::max(static_cast<double>(i), 0.5) / 256.0);
+    return t;
+  }();
+  const uint32_t p = bit ? kOne - zero : zero;
+  return table[(p + 8) >> 4];
 }
 
 // Writes `count` (1..16) bits with the stuffing rule. Where no 1 needs stuffing (the zero run
@@ -250,6 +273,17 @@ uint32_t ArithmeticDecoder::decodeBits(int count) {
   const uint32_t bits = target(total);
   narrow(total - bits - 1, total - bits, shiftedBy(count));
   return bits;
+}
+
+bool ArithmeticDecoder::decodeBit(BinaryContext& context) {
+  const bool bit = target(BinaryContext::kOne) >= context.zero;
+  const uint32_t split = BinaryContext::kOne - context.zero;
+  if (bit)
+    narrow(0, split, shiftedBy(BinaryContext::kBits));
+  else
+    narrow(split, BinaryContext::kOne, shiftedBy(BinaryContext::kBits));
+  context.update(bit);
+  return bit;
 }
 
 // ArithmeticEncoder::narrow's runs; the code value follows low and high, taking in a coder

@@ -34,9 +34,11 @@ constexpr auto makeBasis() {
 }
 constexpr auto kBasis = makeBasis();
 
+__extension__ using Int128 = __int128;  // GCC and Clang; -Wpedantic knows no 128-bit type
+
 // a / d rounded to nearest, halves away from zero; d > 0.
-std::int64_t roundedDivide(std::int64_t a, std::int64_t d) {
-  const std::int64_t q = (std::abs(a) + d / 2) / d;
+Int128 roundedDivide(Int128 a, Int128 d) {
+  const Int128 q = ((a < 0 ? -a : a) + d / 2) / d;
   return a < 0 ? -q : q;
 }
 
@@ -61,18 +63,20 @@ std::array<double, kN> forwardDct16(const std::array<double, kN>& x) {
   return out;
 }
 
-std::array<int, kN> reconstructDctSegment(const std::array<std::int64_t, kN>& levels, int acStep,
-                                          int dcDivisor) {
+std::array<int, kN> reconstructDctSegment(const std::array<std::int64_t, kN>& levels,
+                                          std::int64_t acStep, int dcDivisor,
+                                          int stepFractionBits) {
   // Most AC levels are 0: only the others' basis rows are added (the sum is exact either way).
-  std::array<std::int64_t, kN> ac{};
+  std::array<Int128, kN> ac{};
   for (int k = 1; k < kN; ++k) {
     if (levels[k] == 0) continue;
-    for (int n = 0; n < kN; ++n) ac[n] += levels[k] * kBasis[k][n];
+    for (int n = 0; n < kN; ++n) ac[n] += Int128{levels[k]} * kBasis[k][n];
   }
+  const Int128 divisor = Int128{dcDivisor} << (kBasisShift + stepFractionBits);
   std::array<int, kN> x{};
   for (int n = 0; n < kN; ++n) {
-    const std::int64_t s = acStep * (levels[0] * kBasis[0][n] + dcDivisor * ac[n]);
-    x[n] = static_cast<int>(roundedDivide(s, std::int64_t{dcDivisor} << kBasisShift));
+    const Int128 s = acStep * (Int128{levels[0]} * kBasis[0][n] + dcDivisor * ac[n]);
+    x[n] = static_cast<int>(roundedDivide(s, divisor));
   }
   return x;
 }

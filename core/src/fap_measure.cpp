@@ -47,6 +47,20 @@ void checkFramesMatch(const FapStream& original, const FapStream& decoded) {
 
 }  // namespace
 
+std::string_view fapQualityName(FapQuality quality) {
+  return quality == FapQuality::Robust ? "robust" : "tao";
+}
+
+std::optional<FapQuality> parseFapQuality(std::string_view name) {
+  if (name == "robust") return FapQuality::Robust;
+  if (name == "tao") return FapQuality::Tao;
+  return std::nullopt;
+}
+
+std::optional<double> psnrBy(const FapComparison& comparison, FapQuality quality) {
+  return quality == FapQuality::Robust ? comparison.robustPsnr : comparison.psnr;
+}
+
 FapComparison compareFapStreams(const FapStream& original, const FapStream& decoded) {
   checkFramesMatch(original, decoded);
   std::array<Accumulator, kFapCount + 1> acc{};
@@ -76,6 +90,7 @@ FapComparison compareFapStreams(const FapStream& original, const FapStream& deco
 
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   double sumOfRatios = 0;  // sum_i R_i^2 / mse_i
+  double sumOfErrors = 0;  // sum_i mse_i / R_i^2
   for (int fap = 3; fap <= kFapCount; ++fap) {
     const Accumulator& s = acc[static_cast<size_t>(fap)];
     if (s.frames == 0) {
@@ -95,11 +110,15 @@ FapComparison compareFapStreams(const FapStream& original, const FapStream& deco
       const double ratio = mse > 0 ? r2 / mse : kInfinity;
       e.psnr = 10.0 * std::log10(ratio);
       sumOfRatios += ratio;
+      sumOfErrors += mse / r2;
       ++out.psnrFaps;
     }
     out.faps.push_back(e);
   }
-  if (out.psnrFaps > 0) out.psnr = 10.0 * std::log10(sumOfRatios / out.psnrFaps);
+  if (out.psnrFaps > 0) {
+    out.psnr = 10.0 * std::log10(sumOfRatios / out.psnrFaps);
+    out.robustPsnr = sumOfErrors > 0 ? 10.0 * std::log10(out.psnrFaps / sumOfErrors) : kInfinity;
+  }
   return out;
 }
 

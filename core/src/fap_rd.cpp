@@ -4,7 +4,6 @@
 #include <array>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_measure.hpp"
 
 namespace mpeg4face {
 
@@ -42,7 +41,10 @@ RdPoint measureEncoding(const FapStream& stream, const FbaEncodeOptions& options
   const auto bits = static_cast<double>(enc.stats.bits);
   p.bitsPerSample = bits / static_cast<double>(samples);
   p.bitsPerSecond = bitsPerSecond(bits, stream);
-  p.psnr = compareFapStreams(stream, comparableReconstruction(stream, enc.reconstruction)).psnr;
+  const FapComparison c =
+      compareFapStreams(stream, comparableReconstruction(stream, enc.reconstruction));
+  p.psnr = c.psnr;
+  p.robustPsnr = c.robustPsnr;
   return p;
 }
 
@@ -66,28 +68,35 @@ std::vector<RdPoint> sweepRateDistortion(const FapStream& stream,
   return points;
 }
 
-bool meetsPsnr(const RdPoint& point, double targetDb) {
-  return point.psnr && *point.psnr >= targetDb;
+std::optional<double> psnrBy(const RdPoint& point, FapQuality quality) {
+  return quality == FapQuality::Robust ? point.robustPsnr : point.psnr;
 }
 
-std::optional<RdPoint> cheapestMeeting(std::span<const RdPoint> points, double targetDb) {
+bool meetsPsnr(const RdPoint& point, double targetDb, FapQuality quality) {
+  const std::optional<double> db = psnrBy(point, quality);
+  return db && *db >= targetDb;
+}
+
+std::optional<RdPoint> cheapestMeeting(std::span<const RdPoint> points, double targetDb,
+                                       FapQuality quality) {
   std::optional<RdPoint> best;
   for (const RdPoint& p : points) {
-    if (meetsPsnr(p, targetDb) && (!best || p.bits < best->bits)) best = p;
+    if (meetsPsnr(p, targetDb, quality) && (!best || p.bits < best->bits)) best = p;
   }
   return best;
 }
 
 std::optional<RdPoint> cheapestEncoding(const FapStream& stream, double targetDb,
                                         std::span<const FapCodingMode> modes,
-                                        const FbaEncodeOptions& base) {
+                                        const FbaEncodeOptions& base, FapQuality quality) {
   const std::vector<RdPoint> points = sweepRateDistortion(stream, modes, base);
-  return cheapestMeeting(points, targetDb);
+  return cheapestMeeting(points, targetDb, quality);
 }
 
 std::string rdModeName(const RdPoint& point) {
   std::string name(codingModeName(point.mode));
-  if (point.mode == FapCodingMode::Pca) name += "+" + std::string(codingModeName(point.pcaTemporal));
+  if (point.mode == FapCodingMode::Pca)
+    name += "+" + std::string(codingModeName(point.pcaTemporal));
   return name;
 }
 

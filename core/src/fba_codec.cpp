@@ -75,6 +75,52 @@ void checkInput(const FapStream& stream, const FbaEncodeOptions& options) {
   }
 }
 
+// The planes up to fba_object_end_code and the end of the data.
+void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream);
+
+// `code` here, byte-aligned as 14496-2 places start codes after headers and user data, or
+// after next_start_code() stuffing as this codec writes them; consumed if so.
+bool acceptStartCode(BitReader& in, uint32_t code) {
+  if ((in.position() & 7) == 0 && in.bitsLeft() >= 32 && in.peekBitsOrZero(32) == code) {
+    in.skip(32);
+    return true;
+  }
+  if (!in.nextIsStartCode(code)) return false;
+  in.readStartCode(code, "start code");
+  return true;
+}
+
+// user_data(): its start code, then bytes up to the next start code prefix 0x000001 (a
+// 0x7F byte just before the prefix is next_start_code() stuffing and left for the code).
+void skipUserData(BitReader& in) {
+  while (acceptStartCode(in, fba::kUserDataStartCode)) {
+    while (in.bitsLeft() >= 24 && in.peekBitsOrZero(24) != 1) in.skip(8);
+    if (in.bitsLeft() < 24) in.fail("user_data", "the data ends inside user data");
+    in.seek(in.position() - 8);
+    if (in.peekBitsOrZero(8) != 0x7F) in.skip(8);
+  }
+}
+
+// visual_object_sequence() and visual_object() up to fba_object (14496-2 6.2.2): the profile
+// is not checked, the object must be an FBA object.
+void readVisualObjectHeaders(BitReader& in) {
+  in.readBits(8, "profile_and_level_indication");
+  skipUserData(in);
+  if (!acceptStartCode(in, fba::kVisualObjectStartCode)) {
+    in.fail("visual_object_start_code", "expected 0x000001B5 after the sequence header");
+  }
+  if (in.readBit("is_visual_object_identifier")) {
+    in.readBits(4, "visual_object_verid");
+    in.readBits(3, "visual_object_priority");
+  }
+  const uint32_t type = in.readBits(4, "visual_object_type");
+  if (type != fba::kFbaVisualObjectType) {
+    in.failAt(in.position() - 4, "visual_object_type",
+              "is " + std::to_string(type) + ", not an FBA object (4)");
+  }
+  skipUserData(in);
+}
+
 }  // namespace
 
 std::string_view codingModeName(FapCodingMode mode) {
@@ -110,7 +156,18 @@ FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options) 
   result.reconstruction.frameRate =
       frames.empty() ? FapStream{}.frameRate : fba::framesPerSecond(rate);
   BitWriter out;
-  out.writeBits(kFbaObjectStartCode, 32);
+  if (options.visualObjectSequence) {
+    out.writeBits(fba::kVisualObjectSequenceStartCode, 32);
+    out.writeBits(fba::kSimpleFaceAnimationLevel1, 8);
+    out.writeBits(fba::kVisualObjectStartCode, 32);
+    out.writeBit(false);  // is_visual_object_identifier
+    out.writeBits(fba::kFbaVisualObjectType, 4);
+    out.writeStartCode(options.mode == FapCodingMode::Pca ? fba::kPcaObjectStartCode
+                                                          : kFbaObjectStartCode);
+  } else {
+    out.writeBits(
+        options.mode == FapCodingMode::Pca ? fba::kPcaObjectStartCode : kFbaObjectStartCode, 32);
+  }
   result.reconstruction.frames.reserve(frames.size());
   result.stats.frameBits.reserve(frames.size());
   fba::EncodeOutput output{out, result.stats, result.reconstruction};
@@ -134,16 +191,38 @@ FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options) 
 FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
                     const FbaDecodeLimits& limits) {
   BitReader in(bytes, std::string(source));
-  if (in.readBits(32, "fba_object_start_code") != kFbaObjectStartCode) {
-    in.failAt(0, "fba_object_start_code", "the data does not start with 0x000001BA");
-  }
-  // The PCA mode's header (docs/pca-mode.md): the planes then carry KLT components.
+  if (acceptStartCode(in, fba::kVisualObjectSequenceStartCode)) readVisualObjectHeaders(in);
+  const uint64_t objectStart = in.position();
+  // The PCA mode's own start code and header (docs/pca-mode.md): the planes then carry KLT
+  // components. After fba_object_start_code, user data is skipped as 14496-2 says.
   std::optional<fba::PcaHeader> pca;
-  if (in.nextIsStartCode(fba::kPcaHeaderStartCode)) {
+  if (acceptStartCode(in, fba::kPcaObjectStartCode)) {
     in.readStartCode(fba::kPcaHeaderStartCode, "pca_header_start_code");
     pca = fba::readPcaHeader(in);
+  } else if (acceptStartCode(in, kFbaObjectStartCode)) {
+    skipUserData(in);
+  } else {
+    if (in.bitsLeft() < 32) in.readBits(32, "fba_object_start_code");  // says the data ends
+    in.failAt(objectStart, "fba_object_start_code",
+              objectStart == 0 ? "the data does not start with 0x000001BA (nor 0x000001B0)"
+                               : "expected 0x000001BA after the visual object header");
   }
   FapStream stream;
+  try {
+    decodePlanes(in, limits, stream);
+  } catch (const Error& e) {
+    // Past the object's start, a syntax error is almost always damage (a flipped bit makes
+    // the arithmetic decoders and the headers after it read nonsense); limits are not.
+    if (e.reason().find("FbaDecodeLimits") != std::string::npos) throw;
+    throw Error(e.file(), 0, e.field(), "the stream is damaged " + e.reason());
+  }
+  if (pca) stream.frames = fba::reconstructPca(*pca, stream.frames, source);
+  return stream;
+}
+
+namespace {
+
+void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream) {
   std::optional<double> rate;
   std::optional<int> codingType;  // of the last intra plane
   fba::PredictiveDecoder predictive;
@@ -215,9 +294,9 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
             std::to_string(in.bitsLeft() / 8) + " bytes follow the end of the object");
   }
   if (rate) stream.frameRate = *rate;
-  if (pca) stream.frames = fba::reconstructPca(*pca, stream.frames, source);
-  return stream;
 }
+
+}  // namespace
 
 FapStream readFbaFile(const std::filesystem::path& path) {
   const std::string bytes = readFile(path);

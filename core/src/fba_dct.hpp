@@ -18,33 +18,47 @@
 namespace mpeg4face::fba {
 
 inline constexpr int kMaxDcDivisor = 15;
+// AC steps are sent as a step index e per FAP: step = kStepMantissa[e % 8] 2^(e / 8) / 256
+// (about 2^(e/8) / 4: 0.25 at e = 0, eight steps per octave) for e in 0..kMaxStepIndex.
+inline constexpr int kStepFractionBits = 8;
+inline constexpr int kMaxStepIndex = 175;
+inline constexpr int kMaxLevelClass = 40;  // bit length of a DC difference, step delta or skip
 
-// The adaptive models of the DCT planes, one per symbol kind; an intra plane starts them
-// afresh. The sizes are the symbol alphabets of docs/dct-mode.md.
-struct DctModels {
-  AdaptiveModel skips{2};
-  AdaptiveModel countSize{32};  // size class of a frame skip count
-  AdaptiveModel sameMask{2};
-  AdaptiveModel partial{2};
-  AdaptiveModel full{2};
-  AdaptiveModel present{2};
-  AdaptiveModel visemeRepeat{2};
-  AdaptiveModel expressionRepeat{2};
-  AdaptiveModel dcSize{30};  // size class 0..29 of a DC level difference
-  // Zero runs 0..14 and end_of_segment; [0] from coefficient 1, [1] after a non-zero level.
-  std::array<AdaptiveModel, 2> acRun{AdaptiveModel(16), AdaptiveModel(16)};
-  // Size class 1..25 of a non-zero AC level, less 1; [0] coefficients 1-2, [1] 3-15.
-  std::array<AdaptiveModel, 2> acSize{AdaptiveModel(25), AdaptiveModel(25)};
+// The step in 1/256 for a step index (0..kMaxStepIndex).
+std::int64_t dctStep256(int stepIndex);
+// The encoder's step index for a FAP that varies over `range` in the stream (0: it does not),
+// QP its FapInfo::quantStep, at fap_quant `fapQuant` (docs/dct-mode.md, "Steps").
+int dctStepIndex(std::int64_t range, int quantStep, int fapQuant);
+
+// The adaptive binary contexts of the DCT planes (docs/dct-mode.md, "Contexts"); an intra plane
+// starts them afresh.
+struct DctContexts {
+  BinaryContext skips, sameMask, partial, full, present, visemeRepeat, expressionRepeat;
+  std::array<BinaryContext, kMaxLevelClass + 1> skipClass;
+  std::array<BinaryContext, kMaxLevelClass + 1> stepClass;
+  // The DC difference's size class: bin 0 (zero or not) per group and whether the FAP's last
+  // DC difference was 0; the other bins per bin index, intra and inter apart.
+  std::array<std::array<BinaryContext, 2>, kGroupCount> dcZero;
+  std::array<std::array<BinaryContext, kMaxLevelClass + 1>, 2> dcClass;
+  // coded_block (some AC level non-zero) per group and whether the FAP's last block was coded.
+  std::array<std::array<BinaryContext, 2>, kGroupCount> coded;
+  // significant / last per group and coefficient 1..15 (index k - 1).
+  std::array<std::array<BinaryContext, kDctSegmentLength - 1>, kGroupCount> significant, last;
+  // The unary prefix of |level| - 1: coefficients 1-2 and 3-15 apart, per bin (0..3, 4+).
+  std::array<std::array<BinaryContext, 5>, 2> levelPrefix;
 };
 
 // What later planes refer to, tracked alike by encoder and decoder; an intra plane resets it.
 struct DctState {
   int fapQuant = 1;
   int dcDivisor = 4;
-  DctModels models;
-  std::bitset<kFapCount> mask;               // the previous segment's
-  std::array<std::int64_t, kFapCount> dc{};  // the previous DC level of each FAP
-  Viseme viseme;                             // the last FAP 1 and 2 sent
+  DctContexts contexts;
+  std::bitset<kFapCount> mask;                   // the previous segment's
+  std::array<std::int64_t, kFapCount> dc{};      // the previous DC level of each FAP
+  std::array<int, kFapCount> stepIndex{};        // -1 until the FAP's step has been sent
+  int lastStepIndex = 0;                         // the prediction of the next step index sent
+  std::bitset<kFapCount> lastDcZero, lastCoded;  // the FAP's previous block
+  Viseme viseme;                                 // the last FAP 1 and 2 sent
   Expression expression;
 
   void beginIntra(int quant, int divisor, const std::bitset<kFapCount>& intraMask);

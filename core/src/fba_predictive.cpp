@@ -140,7 +140,10 @@ void PredictiveState::beginIntra(int quant, const std::bitset<kFapCount>& newMas
   fapQuant = quant;
   mask = newMask;
   for (size_t i = 0; i < steps.size(); ++i) steps[i] = int64_t{fapTable()[i].quantStep} * quant;
-  if (!rangesSet) {
+  // As the reference decoders do: an intra range [0, 0] of FAP 4 means "ranges not set", and
+  // every range goes back to its default (the encoder never sends it: chooseRanges).
+  const LevelRange& fap4 = intraRange[3];
+  if (!rangesSet || (fap4.min == 0 && fap4.max == 0)) {
     for (int fap = 3; fap <= kFapCount; ++fap) {
       const FapInfo& info = fapTable()[static_cast<size_t>(fap - 1)];
       const int intra = levelsOf(defaultCode(info.intraRange), fapQuant);

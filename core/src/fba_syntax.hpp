@@ -15,6 +15,17 @@
 
 namespace mpeg4face::fba {
 
+// ISO/IEC 14496-2 start codes and values around fba_object (docs/bitstream.md, "Object
+// level").
+inline constexpr uint32_t kVisualObjectSequenceStartCode = 0x000001B0;
+inline constexpr uint32_t kUserDataStartCode = 0x000001B2;
+inline constexpr uint32_t kVisualObjectStartCode = 0x000001B5;
+inline constexpr uint32_t kFbaVisualObjectType = 4;           // visual_object_type "FBA ID"
+inline constexpr uint32_t kSimpleFaceAnimationLevel1 = 0x61;  // profile_and_level_indication
+// The PCA mode's object start code, a start code 14496-2 reserves, so that a standard decoder
+// refuses a PCA stream instead of decoding its components as FAPs (docs/pca-mode.md).
+inline constexpr uint32_t kPcaObjectStartCode = 0x000001B9;
+
 inline constexpr int kCodingTypePredictive = 0;
 inline constexpr int kCodingTypeDct = 1;
 // fba_paramset_mask: bit 0 FAPs, bit 1 BAPs (body animation, not supported).

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -480,6 +481,25 @@ TEST(ArithmeticCoder, SpendsAtMostAHundredthOfABitPerSymbolOverTheModel) {
     eff.symbols = kCount;
     cases.emplace_back("raw 1..8 bits", eff);
   }
+  {
+    // The DCT mode's adaptive binary contexts: ideal = -log2 of each context's probability
+    // before the bit (exact, not BinaryContext::idealBits's table), over bits of three sources.
+    Efficiency eff;
+    BitWriter w;
+    ArithmeticEncoder enc(w);
+    std::array<mpeg4face::BinaryContext, 3> contexts{};
+    for (size_t i = 0; i < kCount; ++i) {
+      const size_t c = i % 3;
+      const bool bit = rng() % 1000 < std::array{20u, 500u, 900u}[c];
+      const double p = contexts[c].zero / 4096.0;
+      eff.idealBits -= std::log2(bit ? 1 - p : p);
+      enc.encodeBit(bit, contexts[c]);
+    }
+    enc.flush();
+    eff.actualBits = w.bitCount();
+    eff.symbols = kCount;
+    cases.emplace_back("binary contexts", eff);
+  }
   for (const auto& [name, eff] : cases) {
     std::printf("%-20s ideal %.4f bit/symbol, actual %.4f, overhead %+.6f\n", name.c_str(),
                 eff.idealBits / static_cast<double>(eff.symbols),
@@ -488,6 +508,49 @@ TEST(ArithmeticCoder, SpendsAtMostAHundredthOfABitPerSymbolOverTheModel) {
     EXPECT_LE(eff.overheadPerSymbol(), 0.01) << name;
     EXPECT_GE(eff.overheadPerSymbol(), -0.001) << name;  // no coder beats its model
   }
+}
+
+// BinaryContext: starts at 1/2, moves 1/16 of the way towards each bit, never reaches 0 or 1;
+// the decoder gives back every bit.
+TEST(BinaryContext, AdaptsAndRoundTrips) {
+  mpeg4face::BinaryContext c;
+  EXPECT_EQ(c.zero, 2048);
+  c.update(false);
+  EXPECT_EQ(c.zero, 2048 + 128);
+  c.update(true);
+  EXPECT_EQ(c.zero, 2176 - 136);
+  for (int i = 0; i < 1000; ++i) c.update(true);
+  EXPECT_EQ(c.zero, 15);
+  for (int i = 0; i < 1000; ++i) c.update(false);
+  EXPECT_EQ(c.zero, 4081);
+  EXPECT_NEAR(c.idealBits(false), -std::log2(4081 / 4096.0), 0.01);
+
+  std::mt19937 rng(7);
+  std::vector<bool> bits;
+  for (int i = 0; i < 200000; ++i) bits.push_back(rng() % 100 < (i / 1000 % 2 ? 3u : 60u));
+  BitWriter w;
+  {
+    ArithmeticEncoder enc(w);
+    std::array<mpeg4face::BinaryContext, 2> contexts{};
+    for (size_t i = 0; i < bits.size(); ++i) {
+      enc.encodeBit(bits[i], contexts[i % 2]);
+      if (i % 7 == 0) enc.encodeBits(static_cast<uint32_t>(i % 2), 1);  // bypass bits between
+    }
+    enc.flush();
+  }
+  w.writeBits(0x5A, 8);  // a plain field after the segment
+  const std::vector<uint8_t> bytes = w.bytes();
+  BitReader r(bytes);
+  ArithmeticDecoder dec(r);
+  std::array<mpeg4face::BinaryContext, 2> contexts{};
+  for (size_t i = 0; i < bits.size(); ++i) {
+    ASSERT_EQ(dec.decodeBit(contexts[i % 2]), bits[i]) << i;
+    if (i % 7 == 0) {
+      ASSERT_EQ(dec.decodeBits(1), i % 2) << i;
+    }
+  }
+  dec.finish("test");
+  EXPECT_EQ(r.readBits(8, "field"), 0x5Au);
 }
 
 }  // namespace

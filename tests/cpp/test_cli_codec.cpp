@@ -75,7 +75,8 @@ TEST(CliCodec, BadArgumentsAndStreams) {
   r = runCli("decode " + (mpeg4face::test::kData / "malformed" / "fba_truncated.fba").string() +
              " -o " + (scratchDir() / "x.fap").string());
   EXPECT_EQ(r.status, 1) << r.out;
-  EXPECT_TRUE(has(r.out, "fba_truncated.fba: low-level FAP data: at bit ")) << r.out;
+  EXPECT_TRUE(has(r.out, "fba_truncated.fba: low-level FAP data: the stream is damaged at bit "))
+      << r.out;
   EXPECT_FALSE(std::filesystem::exists(scratchDir() / "x.fap"));
 }
 

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -44,6 +45,11 @@ TEST(CliPsnr, PrintsPsnrAndPerFapErrors) {
   const CliResult r = runCli("psnr " + a + " " + b);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("PSNR 23.98 dB over 2 FAPs"), std::string::npos) << r.out;
+  // The robust PSNR, 10 log10(2 / (2.25/900 + 100/10000)) = 22.04 dB, first by default.
+  EXPECT_LT(r.out.find("robust PSNR 22.04 dB over 2 FAPs"), r.out.find("\nPSNR 23.98")) << r.out;
+  const CliResult tao = runCli("psnr " + a + " " + b + " --quality tao");
+  ASSERT_EQ(tao.status, 0) << tao.out;
+  EXPECT_LT(tao.out.find("PSNR 23.98 dB"), tao.out.find("robust PSNR 22.04 dB")) << tao.out;
   // FAP 3: 4 frames, range 30, max error 3, RMS 1.5, 10 log10(400) = 26.02 dB.
   EXPECT_NE(r.out.find("   3 open_jaw"), std::string::npos) << r.out;
   const std::string row3 = r.out.substr(r.out.find("   3 open_jaw"), 80);
@@ -58,6 +64,9 @@ TEST(CliPsnr, Json) {
   ASSERT_EQ(r.status, 0) << r.out;
   auto j = nlohmann::json::parse(r.stdoutOnly);
   EXPECT_NEAR(j["psnr_db"].get<double>(), 23.9794, 1e-4);
+  EXPECT_NEAR(j["robust_psnr_db"].get<double>(), 10 * std::log10(160.0), 1e-9);
+  EXPECT_EQ(j["quality"], "robust");
+  EXPECT_EQ(j["quality_db"], j["robust_psnr_db"]);
   EXPECT_EQ(j["psnr_faps"], 2);
   EXPECT_EQ(j["frames"], 4);
   ASSERT_EQ(j["faps"].size(), 2u);
@@ -116,6 +125,8 @@ TEST(CliPsnr, UsageErrorsExitWithStatus2) {
   EXPECT_EQ(runCli("psnr a.fap").status, 2);
   EXPECT_EQ(runCli("psnr a.fap b.fap c.fap").status, 2);
   EXPECT_EQ(runCli("psnr a.fap b.fap --bogus").status, 2);
+  EXPECT_EQ(runCli("psnr a.fap b.fap --quality").status, 2);
+  EXPECT_EQ(runCli("psnr a.fap b.fap --quality tao8").status, 2);
   r = runCli("--help");
   EXPECT_NE(r.out.find("psnr"), std::string::npos) << r.out;
 }

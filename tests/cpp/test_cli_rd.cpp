@@ -29,26 +29,27 @@ const std::string kJoy = (mpeg4face::test::kData / "xface-fap" / "joy.fap").stri
 struct Row {
   int fapQuant;
   double bits, bitsPerSample, bitsPerSecond;
-  std::string psnr;
+  std::string psnr, robustPsnr;
 };
 
 std::map<std::string, std::vector<Row>> readCsv(const std::filesystem::path& path) {
   std::ifstream in(path);
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "mode,fap_quant,bits,bits_per_sample,bits_per_second,psnr_db");
+  EXPECT_EQ(line, "mode,fap_quant,bits,bits_per_sample,bits_per_second,psnr_db,robust_psnr_db");
   std::map<std::string, std::vector<Row>> rows;
   while (std::getline(in, line)) {
     std::stringstream s(line);
-    std::string mode, q, bits, perSample, perSecond, psnr;
+    std::string mode, q, bits, perSample, perSecond, psnr, robustPsnr;
     std::getline(s, mode, ',');
     std::getline(s, q, ',');
     std::getline(s, bits, ',');
     std::getline(s, perSample, ',');
     std::getline(s, perSecond, ',');
     std::getline(s, psnr, ',');
-    rows[mode].push_back(
-        {std::stoi(q), std::stod(bits), std::stod(perSample), std::stod(perSecond), psnr});
+    std::getline(s, robustPsnr, ',');
+    rows[mode].push_back({std::stoi(q), std::stod(bits), std::stod(perSample), std::stod(perSecond),
+                          psnr, robustPsnr});
   }
   return rows;
 }
@@ -90,11 +91,36 @@ TEST(CliRd, CsvCoversEveryModeAndRateFallsWithFapQuant) {
     EXPECT_LT(points.back().bits, (mode.starts_with("pca") ? 0.6 : 0.5) * points.front().bits)
         << mode;
   }
-  // Predictive fap_quant 0 is lossless: every FAP exact, so PSNR is +inf.
+  // Predictive fap_quant 0 is lossless: every FAP exact, so both PSNRs are +inf.
   EXPECT_EQ(rows.at("predictive").front().fapQuant, 0);
   EXPECT_EQ(rows.at("predictive").front().psnr, "inf");
-  // And the coarsest quantiser is not.
+  EXPECT_EQ(rows.at("predictive").front().robustPsnr, "inf");
+  // And the coarsest quantiser is not; the robust PSNR is never above eq. (8) (a harmonic
+  // against an arithmetic mean of the same ratios).
   EXPECT_LT(std::stod(rows.at("predictive").back().psnr), 40.0);
+  for (const auto& [mode, points] : rows) {
+    for (const Row& p : points) {
+      if (p.robustPsnr == "inf") {
+        EXPECT_EQ(p.psnr, "inf") << mode << " " << p.fapQuant;
+      }
+      if (p.psnr == "inf" || p.robustPsnr == "inf") continue;
+      EXPECT_LE(std::stod(p.robustPsnr), std::stod(p.psnr) + 1e-4) << mode << " " << p.fapQuant;
+    }
+  }
+  // The cheapest encodings at 20..35 dB, printed by the robust PSNR (the default).
+  EXPECT_NE(r.out.find("robust PSNR"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("pca+dct"), std::string::npos) << r.out;
+}
+
+TEST(CliRd, QualityChoosesThePrintedMeasure) {
+  const auto csv = scratchDir() / "joy-tao.csv";
+  const auto r = runCli("rd " + kJoy + " --csv " + csv.string() + " --quality tao");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("Tao et al. 1999, eq. 8"), std::string::npos) << r.out;
+  const auto bad = runCli("rd " + kJoy + " --csv " + csv.string() + " --quality best");
+  EXPECT_EQ(bad.status, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--quality takes robust or tao, not 'best'"), std::string::npos)
+      << bad.out;
 }
 
 TEST(CliRd, LosslessRowMatchesEncode) {
@@ -128,15 +154,16 @@ TEST(CliRd, PlotOrAClearErrorWithoutMatplotlib) {
   EXPECT_EQ(missing.status, 1) << missing.out;
 }
 
-// The fewest bits over every mode and fap_quant whose PSNR reaches `target`, searched here
-// directly with encodeFba and compareFapStreams (not through fap_rd.hpp).
+// The fewest bits over every mode and fap_quant whose PSNR by `quality` reaches `target`,
+// searched here directly with encodeFba and compareFapStreams (not through fap_rd.hpp).
 struct Best {
   double bits = 0;
   std::string mode;
   int fapQuant = -1;
 };
 std::optional<Best> exhaustiveSearch(const mpeg4face::FapStream& stream, double target,
-                                     const std::vector<mpeg4face::FapCodingMode>& modes) {
+                                     const std::vector<mpeg4face::FapCodingMode>& modes,
+                                     mpeg4face::FapQuality quality) {
   std::optional<Best> best;
   for (const auto mode : modes) {
     for (int q = mode == mpeg4face::FapCodingMode::Dct ? 1 : 0; q <= 31; ++q) {
@@ -149,7 +176,7 @@ std::optional<Best> exhaustiveSearch(const mpeg4face::FapStream& stream, double 
       if (decoded.frames.size() == stream.frames.size() + 1) {
         decoded.frames.erase(decoded.frames.begin());
       }
-      const auto psnr = mpeg4face::compareFapStreams(stream, decoded).psnr;
+      const auto psnr = mpeg4face::psnrBy(mpeg4face::compareFapStreams(stream, decoded), quality);
       const double bits = 8.0 * static_cast<double>(enc.bytes.size());
       if (psnr && *psnr >= target && (!best || bits < best->bits)) {
         best = Best{bits, std::string(mpeg4face::codingModeName(mode)), q};
@@ -164,30 +191,37 @@ TEST(CliRd, AutoModeIsNeverWorseThanTheBestSingleModeAtTheTarget) {
   for (const std::string name : {"joy", "anger", "test"}) {
     const auto fap = mpeg4face::test::kData / "xface-fap" / (name + ".fap");
     const mpeg4face::FapStream stream = mpeg4face::readFapFile(fap);
-    for (const double target : {25.0, 30.0, 35.0, 45.0}) {
+    // The robust PSNR (the default) at the usual targets, eq. (8) where only it gets.
+    using mpeg4face::FapQuality;
+    for (const auto& [target, quality] :
+         {std::pair{20.0, FapQuality::Robust}, std::pair{25.0, FapQuality::Robust},
+          std::pair{35.0, FapQuality::Tao}, std::pair{45.0, FapQuality::Tao}}) {
       const auto fba = scratchDir() / (name + ".fba");
       std::ostringstream cmd;
       cmd << "encode " << fap.string() << " -o " << fba.string() << " --mode auto --psnr " << target
           << " --json";
+      if (quality == FapQuality::Tao) cmd << " --quality tao";
       const auto r = runCli(cmd.str());
       ASSERT_EQ(r.status, 0) << r.out;
       const auto j = nlohmann::json::parse(r.stdoutOnly);
       const auto bits = j["bits"].get<double>();
       EXPECT_EQ(bits, 8.0 * static_cast<double>(std::filesystem::file_size(fba)));
       EXPECT_EQ(j["psnr_target_db"].get<double>(), target);
+      EXPECT_EQ(j["quality"], std::string(mpeg4face::fapQualityName(quality)));
       // What was written reaches the target...
-      if (j["psnr_db"].is_number())
-        EXPECT_GE(j["psnr_db"].get<double>(), target);
+      const auto& db = j[quality == FapQuality::Robust ? "robust_psnr_db" : "psnr_db"];
+      if (db.is_number())
+        EXPECT_GE(db.get<double>(), target);
       else
-        EXPECT_EQ(j["psnr_db"], "inf");
+        EXPECT_EQ(db, "inf");
       // ...and costs no more than the best of each single mode, or of both together (the PCA
       // mode may do better: tests/cpp/test_pca_codec.cpp searches with it).
-      const auto both =
-          exhaustiveSearch(stream, target, {FapCodingMode::Predictive, FapCodingMode::Dct});
+      const auto both = exhaustiveSearch(stream, target,
+                                         {FapCodingMode::Predictive, FapCodingMode::Dct}, quality);
       ASSERT_TRUE(both) << name << " " << target;
       EXPECT_LE(bits, both->bits) << name << " " << target;
       for (const auto mode : {FapCodingMode::Predictive, FapCodingMode::Dct}) {
-        const auto single = exhaustiveSearch(stream, target, {mode});
+        const auto single = exhaustiveSearch(stream, target, {mode}, quality);
         if (single) {
           EXPECT_LE(bits, single->bits) << name << " " << target;
         }
@@ -211,8 +245,9 @@ TEST(CliRd, AutoIsNeverWorseThanTheBestSingleModeOnEveryStream) {
   struct Point {
     FapCodingMode mode;
     double bits;
-    std::optional<double> psnr;
+    std::optional<double> psnr, robustPsnr;
   };
+  using mpeg4face::FapQuality;
   for (const auto& path : streams) {
     const mpeg4face::FapStream stream = mpeg4face::readFapFile(path);
     std::vector<Point> points;
@@ -224,19 +259,23 @@ TEST(CliRd, AutoIsNeverWorseThanTheBestSingleModeOnEveryStream) {
         if (decoded.frames.size() == stream.frames.size() + 1) {
           decoded.frames.erase(decoded.frames.begin());
         }
-        points.push_back({mode, 8.0 * static_cast<double>(enc.bytes.size()),
-                          mpeg4face::compareFapStreams(stream, decoded).psnr});
+        const auto c = mpeg4face::compareFapStreams(stream, decoded);
+        points.push_back({mode, 8.0 * static_cast<double>(enc.bytes.size()), c.psnr, c.robustPsnr});
       }
     }
-    for (const double target : {30.0, 35.0, 45.0}) {
-      const auto chosen = mpeg4face::cheapestEncoding(stream, target, mpeg4face::allCodingModes());
+    for (const auto& [target, quality] :
+         {std::pair{25.0, FapQuality::Robust}, std::pair{30.0, FapQuality::Robust},
+          std::pair{35.0, FapQuality::Tao}, std::pair{45.0, FapQuality::Tao}}) {
+      const auto chosen =
+          mpeg4face::cheapestEncoding(stream, target, mpeg4face::allCodingModes(), {}, quality);
       ASSERT_TRUE(chosen) << path << " " << target;
-      EXPECT_TRUE(chosen->psnr && *chosen->psnr >= target) << path << " " << target;
+      const auto reached = mpeg4face::psnrBy(*chosen, quality);
+      EXPECT_TRUE(reached && *reached >= target) << path << " " << target;
       for (const auto mode : {FapCodingMode::Predictive, FapCodingMode::Dct}) {
         std::optional<double> best;
         for (const Point& p : points) {
-          if (p.mode == mode && p.psnr && *p.psnr >= target && (!best || p.bits < *best))
-            best = p.bits;
+          const auto db = quality == FapQuality::Robust ? p.robustPsnr : p.psnr;
+          if (p.mode == mode && db && *db >= target && (!best || p.bits < *best)) best = p.bits;
         }
         if (best) {
           EXPECT_LE(static_cast<double>(chosen->bits), *best)
@@ -259,6 +298,9 @@ TEST(CliRd, AutoModeArguments) {
   r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 30 --fap-quant 4");
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_NE(r.out.find("drop --fap-quant"), std::string::npos) << r.out;
+  r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 30 --quality mean");
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_NE(r.out.find("--quality takes robust or tao"), std::string::npos) << r.out;
   // Lossless coding (+inf) reaches any finite target.
   r = runCli("encode " + kJoy + " -o " + fba + " --mode auto --psnr 1000 --json");
   ASSERT_EQ(r.status, 0) << r.out;

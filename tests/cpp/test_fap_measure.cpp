@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// PSNR (Tao et al. eq. 8), per-FAP errors and bit rates, against hand computations, the
-// paper's own figures and a second, naive implementation.
+// PSNR (Tao et al. eq. 8), the robust PSNR, per-FAP errors and bit rates, against hand
+// computations, the paper's own figures and a second, naive implementation.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -55,6 +55,41 @@ TEST(FapMeasure, PsnrAveragesTheRatiosInsideTheLogarithm) {
   EXPECT_EQ(c.faps[1].maxAbs, 10);
   EXPECT_DOUBLE_EQ(c.faps[1].rms, 10.0);
   EXPECT_NEAR(*c.faps[1].psnr, 20.0, 1e-12);
+  // Robust: 10 log10(1 / mean(2.25/900, 100/10000)) = 10 log10(2 / 0.0125) = 22.04 dB, closer
+  // to the worse FAP 4 (20 dB) than eq. (8) is.
+  ASSERT_TRUE(c.robustPsnr);
+  EXPECT_NEAR(*c.robustPsnr, 10 * std::log10(160.0), 1e-9);
+  EXPECT_EQ(mpeg4face::psnrBy(c, mpeg4face::FapQuality::Robust), c.robustPsnr);
+  EXPECT_EQ(mpeg4face::psnrBy(c, mpeg4face::FapQuality::Tao), c.psnr);
+}
+
+TEST(FapMeasure, OneExactFapMakesTaoInfiniteButNotTheRobustPsnr) {
+  // FAP 3 exact, FAP 4 10 dB off: eq. (8) says +inf whatever FAP 4 does; the robust PSNR is
+  // 10 log10(2 / 0.1) = 13.01 dB, and falls as FAP 4 gets worse.
+  const FapStream a = streamOf({{3, {0, 10, 20, 30}}, {4, {0, 100, 0, 100}}});
+  FapStream b = streamOf({{3, {0, 10, 20, 30}}, {4, {0, 100, 0, 100}}});
+  double previous = kInf;
+  for (const int error : {10, 20, 40}) {
+    for (auto& frame : b.frames)
+      frame.set(4, a.frames[static_cast<size_t>(frame.number)].value(4) + error);
+    const FapComparison c = compareFapStreams(a, b);
+    EXPECT_EQ(c.psnr, kInf) << error;
+    ASSERT_TRUE(c.robustPsnr) << error;
+    EXPECT_NEAR(*c.robustPsnr, 10 * std::log10(2.0 / (error * error / 10000.0)), 1e-9) << error;
+    EXPECT_LT(*c.robustPsnr, previous) << error;
+    previous = *c.robustPsnr;
+  }
+  EXPECT_EQ(compareFapStreams(a, a).robustPsnr, kInf);
+  EXPECT_FALSE(compareFapStreams(streamOf({{5, {7, 7}}}), streamOf({{5, {7, 8}}})).robustPsnr);
+}
+
+TEST(FapMeasure, QualityNames) {
+  using mpeg4face::FapQuality;
+  for (const FapQuality q : {FapQuality::Robust, FapQuality::Tao}) {
+    EXPECT_EQ(mpeg4face::parseFapQuality(mpeg4face::fapQualityName(q)), q);
+  }
+  EXPECT_FALSE(mpeg4face::parseFapQuality("Robust"));
+  EXPECT_FALSE(mpeg4face::parseFapQuality(""));
 }
 
 TEST(FapMeasure, IdenticalStreamsAreInfinite) {
@@ -156,7 +191,7 @@ TEST(FapMeasure, AgreesWithANaiveImplementationOnXfaceStreams) {
         if (f.has(fap)) f.set(fap, 8 * static_cast<int>(std::lround(f.value(fap) / 8.0)));
       }
     }
-    double sum = 0;
+    double sum = 0, sumOfErrors = 0;
     int n = 0;
     for (int fap = 3; fap <= 68; ++fap) {
       if (!a.frames[0].has(fap)) continue;
@@ -169,6 +204,7 @@ TEST(FapMeasure, AgreesWithANaiveImplementationOnXfaceStreams) {
       }
       if (hi > lo) {
         sum += (hi - lo) * (hi - lo) / (se / static_cast<double>(a.frames.size()));
+        sumOfErrors += (se / static_cast<double>(a.frames.size())) / ((hi - lo) * (hi - lo));
         ++n;
       }
     }
@@ -176,6 +212,9 @@ TEST(FapMeasure, AgreesWithANaiveImplementationOnXfaceStreams) {
     EXPECT_EQ(c.psnrFaps, n) << name;
     ASSERT_TRUE(c.psnr) << name;
     EXPECT_NEAR(*c.psnr, 10 * std::log10(sum / n), 1e-9) << name;
+    ASSERT_TRUE(c.robustPsnr) << name;
+    EXPECT_NEAR(*c.robustPsnr, 10 * std::log10(n / sumOfErrors), 1e-9) << name;
+    EXPECT_LE(*c.robustPsnr, *c.psnr) << name;  // the mean of ratios >= the harmonic mean
     EXPECT_GT(*c.psnr, 10.0) << name;
     EXPECT_LT(*c.psnr, 80.0) << name;
   }

@@ -71,6 +71,25 @@ class AdaptiveModel {
   size_t topBit_ = 1;  // highest power of two <= symbolCount
 };
 
+// An adaptive binary context in the manner of CABAC (the LZMA form of its state machine): the
+// probability of a 0 in 1/4096, moved 1/16 of the way towards each coded bit. It starts at 1/2
+// and stays within [15, 4081]/4096, so both bits keep a share of the coder's interval.
+struct BinaryContext {
+  static constexpr int kBits = 12;
+  static constexpr uint32_t kOne = 1u << kBits;
+  static constexpr int kShift = 4;
+  uint16_t zero = kOne / 2;
+
+  void update(bool bit) {
+    if (bit)
+      zero = static_cast<uint16_t>(zero - (zero >> kShift));
+    else
+      zero = static_cast<uint16_t>(zero + ((kOne - zero) >> kShift));
+  }
+  // -log2 P(bit) now: what coding `bit` costs, in bits (for the encoder's decisions).
+  double idealBits(bool bit) const;
+};
+
 // At most this many bits per encodeBits symbol, so the interval (> 2^14 after renormalising)
 // keeps >= 64 values per symbol: the rounding costs < 0.01 bit per symbol on average.
 constexpr int kMaxRawBits = 8;
@@ -87,6 +106,8 @@ class ArithmeticEncoder {
   // The same for symbolCount = 2^count (count 1..kMaxRawBits): `count` raw bits as one symbol,
   // scaled by a shift instead of a division.
   void encodeBits(uint32_t bits, int count);
+  // Codes a binary decision with an adaptive context, then adapts it.
+  void encodeBit(bool bit, BinaryContext& context);
   // Ends the segment with the 2 (+ pending) bits that pin the code value down, so the decoder
   // needs nothing after them; the next encode() starts a new segment.
   void flush();
@@ -116,6 +137,8 @@ class ArithmeticDecoder {
   int decodeUniform(int symbolCount);
   // The counterpart of ArithmeticEncoder::encodeBits.
   uint32_t decodeBits(int count);
+  // The counterpart of ArithmeticEncoder::encodeBit.
+  bool decodeBit(BinaryContext& context);
   // Ends the segment: moves the reader to just after the encoder's flush bits. Throws
   // mpeg4face::Error naming `element` if the segment runs past the data or breaks the
   // stuffing rule.

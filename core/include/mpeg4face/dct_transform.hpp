@@ -24,12 +24,15 @@ std::array<double, kDctSegmentLength> forwardDct16(const std::array<double, kDct
 const std::array<std::array<std::int64_t, kDctSegmentLength>, kDctSegmentLength>& dctBasis();
 
 // The decoder's reconstruction of one segment from its levels (levels[0] the DC level), in
-// integer arithmetic so that every decoder agrees bit for bit:
+// integer arithmetic so that every decoder agrees bit for bit. The AC step is
+// acStep / 2^stepFractionBits (a fixed-point step: the DCT mode sends steps in 1/64):
 //   S[n] = acStep * (levels[0] B[0][n] + dcDivisor sum_{k>0} levels[k] B[k][n])
-//   x[n] = S[n] / (dcDivisor 2^28), rounded to nearest, halves away from zero.
-// The DC step is acStep / dcDivisor. Needs |levels[0] * acStep / dcDivisor| <= 2^24 and
-// |levels[k] * acStep| <= 2^24 (decoders check this before calling), dcDivisor in 1..15.
+//   x[n] = S[n] / (dcDivisor 2^(28 + stepFractionBits)), rounded to nearest, halves away from 0.
+// The DC step is the AC step / dcDivisor. Needs |levels[0] * acStep / dcDivisor| and
+// |levels[k] * acStep| <= 2^(24 + stepFractionBits) (decoders check this before calling),
+// dcDivisor in 1..15, stepFractionBits in 0..8; S is summed in 128 bits.
 std::array<int, kDctSegmentLength> reconstructDctSegment(
-    const std::array<std::int64_t, kDctSegmentLength>& levels, int acStep, int dcDivisor);
+    const std::array<std::int64_t, kDctSegmentLength>& levels, std::int64_t acStep, int dcDivisor,
+    int stepFractionBits = 0);
 
 }  // namespace mpeg4face

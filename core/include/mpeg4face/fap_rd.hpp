@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Rate-distortion of FAP coding: one encoding measured (bits, bits per FAP sample, bits/s,
-// PSNR), sweeps over coding modes and fap_quant, and the cheapest encoding that meets a PSNR
-// target. Definitions and choices are in docs/rate-distortion.md.
+// PSNR by both measures of fap_measure.hpp), sweeps over coding modes and fap_quant, and the
+// cheapest encoding that meets a PSNR target by either measure. Definitions and choices are in
+// docs/rate-distortion.md.
 #pragma once
 
 #include <cstddef>
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "mpeg4face/fap_measure.hpp"
 #include "mpeg4face/fap_stream.hpp"
 #include "mpeg4face/fba_codec.hpp"
 
@@ -26,7 +28,12 @@ struct RdPoint {
   // Tao et al. eq. (8) as compareFapStreams gives it: +inf when a FAP is reproduced exactly,
   // nullopt when no FAP varies.
   std::optional<double> psnr;
+  // The robust PSNR (FapComparison::robustPsnr): +inf only when every FAP is exact.
+  std::optional<double> robustPsnr;
 };
+
+// The point's PSNR by `quality`: robustPsnr or psnr.
+std::optional<double> psnrBy(const RdPoint& point, FapQuality quality);
 
 // The low-level FAP values (FAPs 3..68) the stream sends, summed over its frames: the "FAP
 // samples" a rate is normalised by (Tao et al. give kbit/s for a number of FAPs at 30 Hz).
@@ -52,19 +59,22 @@ std::vector<RdPoint> sweepRateDistortion(const FapStream& stream,
                                          std::span<const FapCodingMode> modes,
                                          const FbaEncodeOptions& base = {});
 
-// Whether a point reaches `targetDb`: its PSNR is defined and >= targetDb (+inf reaches all).
-bool meetsPsnr(const RdPoint& point, double targetDb);
+// Whether a point reaches `targetDb` by `quality`: that PSNR is defined and >= targetDb (+inf
+// reaches all).
+bool meetsPsnr(const RdPoint& point, double targetDb, FapQuality quality = FapQuality::Robust);
 
-// Of `points`, the one with the fewest bits that meets `targetDb` (ties: the earlier one);
-// nullopt if none does.
-std::optional<RdPoint> cheapestMeeting(std::span<const RdPoint> points, double targetDb);
+// Of `points`, the one with the fewest bits that meets `targetDb` by `quality` (ties: the
+// earlier one); nullopt if none does.
+std::optional<RdPoint> cheapestMeeting(std::span<const RdPoint> points, double targetDb,
+                                       FapQuality quality = FapQuality::Robust);
 
 // The fewest-bit (mode, fap_quant) over all modes of `modes` and their whole fap_quant range
-// that meets `targetDb`: an exhaustive search, so never worse than the best single mode at that
-// target. nullopt if no encoding reaches it.
+// that meets `targetDb` by `quality`: an exhaustive search, so never worse than the best single
+// mode at that target. nullopt if no encoding reaches it.
 std::optional<RdPoint> cheapestEncoding(const FapStream& stream, double targetDb,
                                         std::span<const FapCodingMode> modes,
-                                        const FbaEncodeOptions& base = {});
+                                        const FbaEncodeOptions& base = {},
+                                        FapQuality quality = FapQuality::Robust);
 
 // A point's mode as tables and the rd CSV name it: "predictive", "dct", "pca+predictive",
 // "pca+dct" (Tao et al.'s PCA+PC and PCA+DCT).

@@ -41,6 +41,9 @@ struct FbaEncodeOptions {
   FapCodingMode pcaTemporal = FapCodingMode::Predictive;
   double pcaEnergy = 0.98;
   int pcaBasisBits = 4;
+  // Wrap fba_object in visual_object_sequence and visual_object headers (profile Simple Face
+  // Animation level 1, visual_object_type FBA), as a 14496-2 elementary stream starts.
+  bool visualObjectSequence = false;
 };
 
 struct FbaEncodeStats {
@@ -76,9 +79,10 @@ struct FbaDecodeLimits {
   int maxFrameNumber = 1 << 30;        // skipped frames count too
 };
 
+// Accepts visual_object_sequence and visual_object headers (and user data) before fba_object.
 // Throws mpeg4face::Error naming `source` (a file name, may be empty), the syntax element and
 // the bit offset for any stream that does not follow the syntax, is truncated, or exceeds the
-// limits.
+// limits; past the object's start, the message says the stream is damaged there.
 FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source = {},
                     const FbaDecodeLimits& limits = {});
 // A .fba file decoded (errors name the file); the stream is named after the file, since the

@@ -7,11 +7,11 @@ start from ../dct/irregular.fba, a valid stream of one intra DCT plane and inter
 docs/bitstream.md gives them:
 
 - dct_truncated.fba        cut to 60 % of its length, inside an arithmetic-coded segment:
-                           decoding past the end gives FAP 48 a DC level out of range
+                           the segment runs past the end of the data
 - dct_zero_dc_divisor.fba  dc_divisor 0 in the intra plane
 - dct_zero_fap_quant.fba   fap_quant 0 (no quantisation) in a DCT intra plane
-- dct_flipped_bit.fba      bit 207 (byte 25, bit 7), in the first segment's coded data,
-                           flipped: FAP 3's AC runs then pass coefficient 15
+- dct_flipped_bit.fba      bit 189 (byte 23, bit 5), in the first segment's coded data,
+                           flipped: FAP 3's step_index then lies outside 0..175
 
 Run: python3 tests/data/malformed/dct_generate.py
 """
@@ -60,7 +60,7 @@ def main():
     valid = (HERE.parent / "dct" / "irregular.fba").read_bytes()
     fap_quant, dc_divisor = intra_fields(valid)
     flipped = bytearray(valid)
-    flipped[207 // 8] ^= 0x80 >> (207 % 8)
+    flipped[189 // 8] ^= 0x80 >> (189 % 8)
     files = {
         "dct_truncated.fba": valid[: len(valid) * 6 // 10],
         "dct_zero_dc_divisor.fba": with_bits(valid, dc_divisor, 4, 0),

@@ -7,7 +7,8 @@ encoder; the cut and flipped ones start from ../../fuzz_corpus/fba/mixed.fba (th
 own synthetic stream). Running it again gives the same bytes.
 
 - fba_empty.fba: no bytes.
-- fba_bad_start_code.fba: mixed.fba starting with 0x000001B0 instead of 0x000001BA.
+- fba_bad_start_code.fba: mixed.fba starting with 0x000001B3 instead of 0x000001BA (0x000001B0
+  would start a visual_object_sequence).
 - fba_truncated.fba: mixed.fba cut 12 bytes before its end, inside the last plane's
   low-level arithmetic-coded segment.
 - fba_no_end_code.fba: an intra plane and three inter planes ending on a byte boundary, then
@@ -97,7 +98,7 @@ def stream(*planes):
 def main():
     out = {}
     out["fba_empty.fba"] = b""
-    out["fba_bad_start_code.fba"] = bytes([0, 0, 1, 0xB0]) + MIXED[4:]
+    out["fba_bad_start_code.fba"] = bytes([0, 0, 1, 0xB3]) + MIXED[4:]
     out["fba_truncated.fba"] = MIXED[:-12]
     no_end = Bits().put(OBJECT, 32)
     intra_plane(no_end, rate=25)
