@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -180,11 +182,79 @@ void PredictiveState::resetModels() {
 
 namespace {
 
+// What RDO quantisation needs of each low-level FAP: the robust PSNR's weight 1 / R^2 (R its
+// range over the frames that send it, at least 1 and the FAP's step, so that a FAP that never
+// moves is still held to its step), and a coarser grid of levels, every `multiple`-th, whose
+// step suits R: at high rate a step D costs e^2 / R^2 = D^2 / (12 R^2) and lambda = -dD/dR =
+// 2 ln 2 D^2 / (12 R^2), so the step lambda asks for is R sqrt(6 lambda / ln 2).
+struct RdoFap {
+  double weight = 0;
+  int64_t multiple = 1;
+};
+std::array<RdoFap, kFapCount> rdoFaps(std::span<const FapFrame> frames, int fapQuant,
+                                      double lambda) {
+  std::array<int64_t, kFapCount> lo{}, hi{};
+  std::array<bool, kFapCount> seen{};
+  for (const FapFrame& f : frames) {
+    for (size_t i = 2; i < kFapCount; ++i) {
+      if (!f.mask[i]) continue;
+      const int64_t v = f.values[i];
+      lo[i] = seen[i] ? std::min(lo[i], v) : v;
+      hi[i] = seen[i] ? std::max(hi[i], v) : v;
+      seen[i] = true;
+    }
+  }
+  std::array<RdoFap, kFapCount> out{};
+  for (size_t i = 0; i < kFapCount; ++i) {
+    const double step = double(fapTable()[i].quantStep) * std::max(fapQuant, 1);
+    const double r = std::max({double(hi[i] - lo[i]), step, 1.0});
+    out[i].weight = 1.0 / (r * r);
+    out[i].multiple =
+        std::max<int64_t>(1, std::llround(r * std::sqrt(6.0 * lambda / std::numbers::ln2) / step));
+  }
+  return out;
+}
+
+// Candidate levels for `residual`: the nearest level, one step nearer zero, zero, and the
+// nearest two on the FAP's coarser grid; of those inside `range`, the one with the least
+// weight * e^2 + lambda * bits(level).
+template <typename Bits>
+int64_t rdoLevel(int64_t residual, int64_t nearest, int64_t step, const RdoFap& fap, double lambda,
+                 const LevelRange& range, Bits&& bits) {
+  const int64_t m = fap.multiple;
+  const int64_t down = (nearest >= 0 ? nearest / m : -((-nearest + m - 1) / m)) * m;
+  const std::array<int64_t, 5> candidates{nearest,
+                                          nearest > 0   ? nearest - 1
+                                          : nearest < 0 ? nearest + 1
+                                                        : 0,
+                                          0, down, down + m};
+  int64_t best = std::clamp<int64_t>(nearest, range.min, range.max);
+  double bestCost = std::numeric_limits<double>::infinity();
+  for (const int64_t level : candidates) {
+    if (level < range.min || level > range.max) continue;
+    const auto e = static_cast<double>(residual - dequantise(level, step));
+    const double cost = fap.weight * e * e + lambda * bits(level);
+    if (cost < bestCost) {
+      bestCost = cost;
+      best = level;
+    }
+  }
+  return best;
+}
+
+// A model-free estimate of an inter level's bits for choosing ranges before the models exist:
+// about what an adaptive model that has seen mostly zeros spends.
+double staticLevelBits(int64_t level) {
+  return level == 0 ? 0.5 : 2.0 + 2.0 * std::log2(static_cast<double>(std::llabs(level)) + 1.0);
+}
+
 class PredictiveEncoder {
  public:
   PredictiveEncoder(std::span<const FapFrame> frames, const FbaEncodeOptions& options,
                     const FrameRateCode& rate, EncodeOutput& output)
-      : frames_(frames), options_(options), rate_(rate), output_(output), out_(output.out) {}
+      : frames_(frames), options_(options), rate_(rate), output_(output), out_(output.out) {
+    if (options.rdoLambda > 0) rdo_ = rdoFaps(frames, options.fapQuant, options.rdoLambda);
+  }
 
   // One intra plane for frames_[begin] and inter planes for the rest of [begin, end).
   void encodeGroup(size_t begin, size_t end) {
@@ -238,16 +308,25 @@ class PredictiveEncoder {
     for (size_t i = 2; i < kFapCount; ++i) {
       if (state_.mask[i]) masked.push_back(i);
     }
-    std::array<int64_t, kFapCount> reconstruction{};
-    for (size_t k = begin; k < end; ++k) {  // frame by frame: the frames lie in a row in memory
-      const int inter = k == begin ? 0 : 1;
-      for (size_t i : masked) {
-        const int64_t step = state_.steps[i];
-        const int64_t level = std::clamp<int64_t>(
-            quantise(frames_[k].values[i] - reconstruction[i], step), -cap, cap);
-        reconstruction[i] += dequantise(level, step);
-        needMax[inter][i] = std::max(needMax[inter][i], level);
-        needMin[inter][i] = std::min(needMin[inter][i], level);
+    // With RDO quantisation its loop runs too (on a static rate estimate: the models do not
+    // exist yet), and the ranges hold what either loop needs.
+    const int loops = options_.rdoLambda > 0 ? 2 : 1;
+    for (int loop = 0; loop < loops; ++loop) {
+      std::array<int64_t, kFapCount> reconstruction{};
+      for (size_t k = begin; k < end; ++k) {  // frame by frame: the frames lie in a row
+        const int inter = k == begin ? 0 : 1;
+        for (size_t i : masked) {
+          const int64_t step = state_.steps[i];
+          const int64_t residual = frames_[k].values[i] - reconstruction[i];
+          int64_t level = std::clamp<int64_t>(quantise(residual, step), -cap, cap);
+          if (inter && loop == 1) {
+            level = rdoLevel(residual, level, step, rdo_[i], options_.rdoLambda, {-cap, cap},
+                             staticLevelBits);
+          }
+          reconstruction[i] += dequantise(level, step);
+          needMax[inter][i] = std::max(needMax[inter][i], level);
+          needMin[inter][i] = std::min(needMin[inter][i], level);
+        }
       }
     }
     const double codeBits = markerBitsPerFlag() + 5.0 * static_cast<double>(masked.size());
@@ -338,9 +417,25 @@ class PredictiveEncoder {
       if (!state_.mask[i]) continue;
       const int64_t step = state_.step(fap);
       const int64_t prediction = intra ? 0 : state_.previous[i];
+      const int64_t residual = frame.values[i] - prediction;
+      int64_t wanted = quantise(residual, step);
+      if (!intra && options_.rdoLambda > 0) {
+        const LevelRange& range = state_.interRange[i];
+        const AdaptiveModel& model = state_.interModel[i];
+        const auto bits = [&](int64_t l) {
+          return l < range.min || l > range.max ? staticLevelBits(l)
+                                                : model.idealBits(static_cast<int>(l - range.min));
+        };
+        constexpr LevelRange kAny{std::numeric_limits<int>::min() / 2,
+                                  std::numeric_limits<int>::max() / 2};
+        const int64_t unbounded =
+            rdoLevel(residual, wanted, step, rdo_[i], options_.rdoLambda, kAny, bits);
+        wanted = rdoLevel(residual, wanted, step, rdo_[i], options_.rdoLambda, range, bits);
+        if (wanted != unbounded) ++output_.stats.clippedValues;  // the range was in the way
+      }
       const int level =
-          codeLevel(coder, quantise(frame.values[i] - prediction, step), intra,
-                    intra ? state_.intraRange[i] : state_.interRange[i], state_.interModel[i]);
+          codeLevel(coder, wanted, intra, intra ? state_.intraRange[i] : state_.interRange[i],
+                    state_.interModel[i]);
       state_.previous[i] = prediction + dequantise(level, step);
     }
     coder.flush();
@@ -361,6 +456,7 @@ class PredictiveEncoder {
   EncodeOutput& output_;
   BitWriter& out_;
   PredictiveState state_;
+  std::array<RdoFap, kFapCount> rdo_{};  // when rdoLambda > 0
 };
 
 }  // namespace
