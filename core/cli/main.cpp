@@ -21,11 +21,14 @@ constexpr std::array kCommands{
             "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
             mpeg4face::cli::runInfo},
     Command{"psnr", "compare a decoded .fap stream with its original: PSNR, per-FAP errors",
-            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--quality robust|tao] [--json]\n"
+            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--quality robust|tao] [--face F.wrl]\n"
+            "               [--json]\n"
             "  PSNR as Tao et al. (1999) eq. (8) defines it (docs/fap-format.md), the robust\n"
             "  PSNR (docs/rate-distortion.md), and each FAP's range, largest and RMS error;\n"
             "  both streams need the same frames\n"
             "  --quality Q  robust (default) or tao: the PSNR printed first\n"
+            "  --face F     a face (.wrl with tables): also the motion error at its feature\n"
+            "               points, RMS and largest, in % of ES0\n"
             "  --json  print one JSON object (keys psnr_db, psnr_faps, faps, extra_faps)\n",
             mpeg4face::cli::runPsnr},
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
