@@ -329,6 +329,9 @@ class PredictiveEncoder {
         }
       }
     }
+    if (options_.rdoLambda > 0) {
+      for (size_t i : masked) shrinkInterRange(begin, end, i, cap, needMin[1][i], needMax[1][i]);
+    }
     const double codeBits = markerBitsPerFlag() + 5.0 * static_cast<double>(masked.size());
     const int64_t counts[2] = {1, static_cast<int64_t>(end - begin) - 1};
 
@@ -368,6 +371,56 @@ class PredictiveEncoder {
       }
     }
     return codes;
+  }
+
+  // RDO of the inter range itself: a FAP that moves only now and then pays for the whole
+  // alphabet its range opens in every frame (the adaptive model's learning), so keeping one
+  // side (or both) of the range at 0 can cost less than the motion it loses. Of the fitted
+  // range [lo, hi] and those with a side at 0, the one with the least weighted squared error
+  // plus lambda times what an adaptive model spends on the levels, on this group's frames.
+  void shrinkInterRange(size_t begin, size_t end, size_t i, int cap, int64_t& lo, int64_t& hi) {
+    const int64_t step = state_.steps[i];
+    const auto levels = [&](int64_t need) {
+      return int64_t{levelsOf(fitCode(need, options_.fapQuant), options_.fapQuant)};
+    };
+    std::optional<double> best;
+    int64_t bestLo = lo, bestHi = hi;
+    const std::array<std::pair<int64_t, int64_t>, 4> options{
+        {{lo, hi}, {int64_t{0}, hi}, {lo, int64_t{0}}, {int64_t{0}, int64_t{0}}}};
+    for (size_t o = 0; o < options.size(); ++o) {
+      const auto [l, h] = options[o];
+      if (std::find(options.begin(), options.begin() + static_cast<std::ptrdiff_t>(o),
+                    options[o]) != options.begin() + static_cast<std::ptrdiff_t>(o)) {
+        continue;  // the same as one tried (a side of the fitted range is 0 already)
+      }
+      const LevelRange range{static_cast<int>(-levels(-l)), static_cast<int>(levels(h))};
+      std::vector<int>& histogram = histogram_;
+      histogram.assign(static_cast<size_t>(range.size()), 0);
+      int64_t reconstruction = dequantise(
+          std::clamp<int64_t>(quantise(frames_[begin].values[i], step), -cap, cap), step);
+      double distortion = 0;
+      for (size_t k = begin + 1; k < end; ++k) {
+        const int64_t residual = frames_[k].values[i] - reconstruction;
+        const int64_t nearest = std::clamp<int64_t>(quantise(residual, step), -cap, cap);
+        const int64_t level =
+            rdoLevel(residual, nearest, step, rdo_[i], options_.rdoLambda, range, staticLevelBits);
+        reconstruction += dequantise(level, step);
+        const auto e = static_cast<double>(frames_[k].values[i] - reconstruction);
+        distortion += rdo_[i].weight * e * e;
+        ++histogram[static_cast<size_t>(level - range.min)];
+      }
+      // An adaptive model's code length for this histogram (counts from 1, halving ignored).
+      double bits = learningBits(range.size(), static_cast<int64_t>(end - begin) - 1);
+      for (const int c : histogram) bits -= std::lgamma(c + 1.0) / std::numbers::ln2;
+      const double cost = distortion + options_.rdoLambda * bits;
+      if (!best || cost < *best) {
+        best = cost;
+        bestLo = l;
+        bestHi = h;
+      }
+    }
+    lo = bestLo;
+    hi = bestHi;
   }
 
   // Codes a level under the intra range (uniform, see PredictiveState) or the inter range and
@@ -422,16 +475,15 @@ class PredictiveEncoder {
       if (!intra && options_.rdoLambda > 0) {
         const LevelRange& range = state_.interRange[i];
         const AdaptiveModel& model = state_.interModel[i];
-        const auto bits = [&](int64_t l) {
-          return l < range.min || l > range.max ? staticLevelBits(l)
-                                                : model.idealBits(static_cast<int>(l - range.min));
+        const auto bits = [&](int64_t l) {  // rdoLevel asks only for levels in the range
+          return model.idealBits(static_cast<int>(l - range.min));
         };
-        constexpr LevelRange kAny{std::numeric_limits<int>::min() / 2,
-                                  std::numeric_limits<int>::max() / 2};
-        const int64_t unbounded =
-            rdoLevel(residual, wanted, step, rdo_[i], options_.rdoLambda, kAny, bits);
+        // Only what no range code reaches counts as clipped: the ranges are RDO's choice too
+        // (shrinkInterRange), so a level they keep out is a decision, not a loss.
+        if (std::llabs(wanted) > levelsOf(kMaxRangeCode, state_.fapQuant)) {
+          ++output_.stats.clippedValues;
+        }
         wanted = rdoLevel(residual, wanted, step, rdo_[i], options_.rdoLambda, range, bits);
-        if (wanted != unbounded) ++output_.stats.clippedValues;  // the range was in the way
       }
       const int level =
           codeLevel(coder, wanted, intra, intra ? state_.intraRange[i] : state_.interRange[i],
@@ -457,6 +509,7 @@ class PredictiveEncoder {
   BitWriter& out_;
   PredictiveState state_;
   std::array<RdoFap, kFapCount> rdo_{};  // when rdoLambda > 0
+  std::vector<int> histogram_;           // shrinkInterRange's, kept to spare allocations
 };
 
 }  // namespace
