@@ -52,7 +52,7 @@ for mode in predictive dct; do
   "$cli" decode "$out/hello_$mode.fba" -o "$out/hello_${mode}_decoded.fap" | tee -a "$out/coding_$mode.txt"
 done
 coded() {  # coded MODE: "842.1 bits/s, PSNR 55.64 dB" from what encode printed
-  echo "$(grep -o '[0-9.]* bits/s' "$out/coding_$1.txt"), $(grep -o 'PSNR [0-9.inf]* dB' "$out/coding_$1.txt")"
+  echo "$(grep -o '[0-9.]* bits/s' "$out/coding_$1.txt"), $(grep -o '^PSNR [0-9.inf]* dB' "$out/coding_$1.txt")"
 }
 # The decoded stream played on the face by the core, as glTF animation (any glTF viewer).
 "$cli" apply "$out/makehuman_head.wrl" "$out/hello_dct.fba" -o "$out/hello_animated.glb" >/dev/null

@@ -105,6 +105,7 @@ __all__ = [
     "encode_fba",
     "decode_fba",
     "psnr",
+    "robust_psnr",
     "speak",
     # faces with tables, cloning, FAP Interpolation Tables
     "parse_shape_key_name",

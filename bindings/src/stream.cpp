@@ -128,6 +128,7 @@ struct PyEncoding {
   FbaEncoding encoding;  // bytes left empty: `data` holds them
   double bitsPerSecond = 0;
   std::optional<double> psnr;
+  std::optional<double> robustPsnr;
 };
 
 void bindFapStream(py::module_& m) {
@@ -229,6 +230,10 @@ void bindCodec(py::module_& m) {
       "psnr", [](const PyEncoding& e) { return psnrOrNone(e.psnr); },
       "PSNR in dB of the decoded stream against the input (Tao et al. eq. 8): inf when exact, "
       "None when no FAP varies.");
+  enc.def_property_readonly(
+      "robust_psnr", [](const PyEncoding& e) { return psnrOrNone(e.robustPsnr); },
+      "The robust PSNR in dB, 10 log10(1 / mean MSE_i/R_i^2) over the FAPs that move "
+      "(docs/rate-distortion.md): inf only when all are exact, None when no FAP varies.");
   enc.def_property_readonly("intra_frames",
                             [](const PyEncoding& e) { return e.encoding.stats.intraFrames; });
   enc.def_property_readonly(
@@ -241,7 +246,7 @@ void bindCodec(py::module_& m) {
   m.def(
       "encode_fba",
       [](const FapStream& stream, const std::string& mode, int fapQuant, int intraPeriod,
-         const std::string& pcaTemporal, int pcaBasisBits) {
+         const std::string& pcaTemporal, int pcaBasisBits, double rdoLambda) {
         FbaEncodeOptions options;
         const auto parsed = parseCodingMode(mode);
         const auto temporal = parseCodingMode(pcaTemporal);
@@ -255,6 +260,7 @@ void bindCodec(py::module_& m) {
         options.intraPeriod = intraPeriod;
         options.pcaTemporal = *temporal;
         options.pcaBasisBits = pcaBasisBits;
+        options.rdoLambda = rdoLambda;
         PyEncoding out;
         std::string bytes;
         {
@@ -262,9 +268,10 @@ void bindCodec(py::module_& m) {
           out.encoding = encodeFba(stream, options);
           bytes.assign(out.encoding.bytes.begin(), out.encoding.bytes.end());
           out.encoding.bytes.clear();
-          out.psnr = compareFapStreams(
-                         stream, comparableReconstruction(stream, out.encoding.reconstruction))
-                         .psnr;
+          const FapComparison quality = compareFapStreams(
+              stream, comparableReconstruction(stream, out.encoding.reconstruction));
+          out.psnr = quality.psnr;
+          out.robustPsnr = quality.robustPsnr;
           out.bitsPerSecond =
               stream.frames.empty()
                   ? 0.0
@@ -274,9 +281,10 @@ void bindCodec(py::module_& m) {
         return out;
       },
       "stream"_a, "mode"_a = "predictive", "fap_quant"_a = 1, "intra_period"_a = 0,
-      "pca_temporal"_a = "predictive", "pca_basis_bits"_a = 4,
+      "pca_temporal"_a = "predictive", "pca_basis_bits"_a = 4, "rdo_lambda"_a = 0.0,
       "Codes a stream as an MPEG-4 FBA bitstream (docs/bitstream.md; dct and pca are the "
-      "project's own modes). fap_quant 0..31 (0: lossless, predictive only).");
+      "project's own modes). fap_quant 0..31 (0: lossless, predictive only). rdo_lambda > 0: "
+      "RDO quantisation of predictive values (docs/rate-distortion.md).");
   m.def(
       "decode_fba",
       [](const py::bytes& data, const std::string& source) {
@@ -293,6 +301,15 @@ void bindCodec(py::module_& m) {
       "original"_a, "decoded"_a,
       "PSNR in dB of a decoded stream against its original (Tao et al. eq. 8; same frames "
       "needed): inf when exact, None when no FAP varies.");
+  m.def(
+      "robust_psnr",
+      [](const FapStream& original, const FapStream& decoded) {
+        return psnrOrNone(compareFapStreams(original, decoded).robustPsnr);
+      },
+      "original"_a, "decoded"_a,
+      "The robust PSNR in dB, 10 log10(1 / mean MSE_i/R_i^2) over the FAPs that move "
+      "(docs/rate-distortion.md; same frames needed): inf only when every FAP is exact, None "
+      "when no FAP varies.");
 }
 
 void bindFiles(py::module_& m) {

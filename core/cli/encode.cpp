@@ -70,6 +70,8 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       out.options.pcaBasisBits = intArgument(args, i, 1, 15);
     } else if (a == "--intra-period") {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
+    } else if (a == "--rdo-lambda") {
+      out.options.rdoLambda = numberArgument(args, i, "a lambda", 0.0);
     } else if (a == "--vos") {
       out.options.visualObjectSequence = true;
     } else if (a == "--json") {
@@ -168,6 +170,7 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     }
     j["fap_quant"] = args.options.fapQuant;
     j["intra_period"] = args.options.intraPeriod;
+    j["rdo_lambda"] = args.options.rdoLambda;
     if (table) {
       j["fit"] = args.fit;
       j["fit_values_left_out"] = leftOut;

@@ -21,17 +21,20 @@ constexpr std::array kCommands{
             "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
             mpeg4face::cli::runInfo},
     Command{"psnr", "compare a decoded .fap stream with its original: PSNR, per-FAP errors",
-            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--quality robust|tao] [--json]\n"
+            "mpeg4face psnr ORIGINAL.fap DECODED.fap [--quality robust|tao] [--face F.wrl]\n"
+            "               [--json]\n"
             "  PSNR as Tao et al. (1999) eq. (8) defines it (docs/fap-format.md), the robust\n"
             "  PSNR (docs/rate-distortion.md), and each FAP's range, largest and RMS error;\n"
             "  both streams need the same frames\n"
             "  --quality Q  robust (default) or tao: the PSNR printed first\n"
+            "  --face F     a face (.wrl with tables): also the motion error at its feature\n"
+            "               points, RMS and largest, in % of ES0\n"
             "  --json  print one JSON object (keys psnr_db, psnr_faps, faps, extra_faps)\n",
             mpeg4face::cli::runPsnr},
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
             "mpeg4face encode IN.fap -o OUT.fba [--mode predictive|dct|pca] [--fap-quant Q]\n"
             "                 [--intra-period N] [--pca-temporal T] [--pca-basis-bits B] [--vos]\n"
-            "                 [--json]\n"
+            "                 [--rdo-lambda L] [--json]\n"
             "                 | --mode auto --psnr DB [--quality robust|tao]  [--fit TABLE.json]\n"
             "  --mode M          predictive (default): quantised differences, arithmetic coded\n"
             "                    dct: 16-frame segments, a DCT per FAP (docs/dct-mode.md)\n"
@@ -46,6 +49,9 @@ constexpr std::array kCommands{
             "  --pca-basis-bits B  pca: fraction bits of the basis sent, 1..15 (default 4)\n"
             "  --intra-period N  an intra frame at least every N frames (default 0: only the\n"
             "                    first frame and where the set of FAPs changes)\n"
+            "  --rdo-lambda L  predictive (and pca's predictive components): RDO quantisation,\n"
+            "                  each inter value's level by e^2/R^2 + L x bits (default 0: off;\n"
+            "                  try 0.001-0.005; docs/rate-distortion.md)\n"
             "  --vos    start with visual_object_sequence and visual_object headers (a\n"
             "           14496-2 elementary stream; decode reads both forms)\n"
             "  --fit T  leave out the FAPs that FAP Interpolation Table T derives from the rest\n"

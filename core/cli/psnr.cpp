@@ -11,7 +11,9 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_file.hpp"
 #include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/fap_motion_error.hpp"
 #include "mpeg4face/spec.hpp"
+#include "mpeg4face/vrml.hpp"
 #include "quality.hpp"
 
 namespace mpeg4face::cli {
@@ -22,6 +24,7 @@ struct PsnrArgs {
   std::string decoded;
   bool json = false;
   FapQuality quality = FapQuality::Robust;  // the one printed first
+  std::string face;  // a face (.wrl with tables): the motion error at its feature points
 };
 
 PsnrArgs parseArgs(const std::vector<std::string>& args) {
@@ -32,6 +35,8 @@ PsnrArgs parseArgs(const std::vector<std::string>& args) {
       out.json = true;
     } else if (a == "--quality") {
       out.quality = qualityArgument(args, i);
+    } else if (a == "--face") {
+      out.face = optionValue(args, i, "a face (.wrl with Face Animation Tables)");
     } else if (a.starts_with("-")) {
       throw UsageError("unknown option '" + a + "'");
     } else if (out.original.empty()) {
@@ -74,6 +79,16 @@ int runPsnr(const std::vector<std::string>& rawArgs) {
     throw Error(args.decoded, 0, e.field(), e.reason() + " (original: " + args.original + ")");
   }
 
+  std::optional<FeaturePointMotionError> motion;
+  if (!args.face.empty()) {
+    const MpegFace face = readVrml(args.face);
+    try {
+      motion = featurePointMotionError(face, original, decoded);
+    } catch (const Error& e) {
+      throw Error(args.face, 0, e.field(), e.reason());
+    }
+  }
+
   if (args.json) {
     nlohmann::ordered_json j;
     j["original"] = args.original;
@@ -97,6 +112,14 @@ int runPsnr(const std::vector<std::string>& rawArgs) {
       f["rms_error"] = e.rms;
       f["psnr_db"] = decibelsJson(e.psnr);
       j["faps"].push_back(std::move(f));
+    }
+    if (motion) {
+      j["motion_error"] = {{"face", args.face},
+                           {"points", motion->points},
+                           {"rms_percent_es0", motion->rmsPercentEs0},
+                           {"max_percent_es0", motion->maxPercentEs0},
+                           {"worst_point", motion->worstPoint},
+                           {"worst_frame", motion->worstFrame}};
     }
     j["extra_faps"] = c.extraFaps;
     j["viseme_mismatches"] = c.visemeMismatches;
@@ -122,6 +145,13 @@ int runPsnr(const std::vector<std::string>& rawArgs) {
     std::printf(
         "PSNR undefined: no FAP the original sends varies (Tao et al. eq. 8 needs a "
         "range > 0)\n");
+  }
+  if (motion) {
+    std::printf(
+        "motion error at %d feature points of %s: RMS %.3f %% of ES0, largest %.3f %% "
+        "(point %s, frame %d)\n",
+        motion->points, args.face.c_str(), motion->rmsPercentEs0, motion->maxPercentEs0,
+        motion->worstPoint.empty() ? "-" : motion->worstPoint.c_str(), motion->worstFrame);
   }
   std::printf("\n FAP name                    frames  range  max|err|   rms err  PSNR dB\n");
   for (const FapError& e : c.faps) {

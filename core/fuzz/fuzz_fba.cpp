@@ -2,7 +2,8 @@
 // libFuzzer target for the FBA bitstream decoder. mpeg4face::Error is the expected outcome for
 // broken input; any other exception, a crash, a hang or a sanitizer report is a bug. A stream
 // the decoder accepts is coded again losslessly (fap_quant 0): that must decode to the
-// encoder's reconstruction, and give back the stream itself unless values had to be clipped.
+// encoder's reconstruction, and give back the stream itself unless values had to be clipped;
+// and again with RDO quantisation (issue 20), which must decode to its reconstruction too.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -26,5 +27,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   if (mpeg4face::decodeFba(again.bytes) != again.reconstruction) std::abort();
   if (again.stats.clippedValues == 0 && again.reconstruction != stream) std::abort();
+  const auto rdo = mpeg4face::encodeFba(stream, {.fapQuant = 2, .rdoLambda = 2e-3});
+  if (mpeg4face::decodeFba(rdo.bytes) != rdo.reconstruction) std::abort();
   return 0;
 }

@@ -4,6 +4,7 @@
 // plane to its mode (fba_predictive.cpp).
 #include "mpeg4face/fba_codec.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -43,6 +44,9 @@ void checkRange(int value, int max, const std::string& where, const char* field)
 void checkInput(const FapStream& stream, const FbaEncodeOptions& options) {
   if (options.fapQuant < 0 || options.fapQuant > 31) {
     throw Error({}, 0, "fapQuant", std::to_string(options.fapQuant) + " is outside 0..31");
+  }
+  if (!(options.rdoLambda >= 0) || !std::isfinite(options.rdoLambda)) {
+    throw Error({}, 0, "rdoLambda", std::to_string(options.rdoLambda) + " is not a number >= 0");
   }
   if (options.intraPeriod < 0) {
     throw Error({}, 0, "intraPeriod", std::to_string(options.intraPeriod) + " is negative");

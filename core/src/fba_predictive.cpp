@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -180,11 +182,79 @@ void PredictiveState::resetModels() {
 
 namespace {
 
+// What RDO quantisation needs of each low-level FAP: the robust PSNR's weight 1 / R^2 (R its
+// range over the frames that send it, at least 1 and the FAP's step, so that a FAP that never
+// moves is still held to its step), and a coarser grid of levels, every `multiple`-th, whose
+// step suits R: at high rate a step D costs e^2 / R^2 = D^2 / (12 R^2) and lambda = -dD/dR =
+// 2 ln 2 D^2 / (12 R^2), so the step lambda asks for is R sqrt(6 lambda / ln 2).
+struct RdoFap {
+  double weight = 0;
+  int64_t multiple = 1;
+};
+std::array<RdoFap, kFapCount> rdoFaps(std::span<const FapFrame> frames, int fapQuant,
+                                      double lambda) {
+  std::array<int64_t, kFapCount> lo{}, hi{};
+  std::array<bool, kFapCount> seen{};
+  for (const FapFrame& f : frames) {
+    for (size_t i = 2; i < kFapCount; ++i) {
+      if (!f.mask[i]) continue;
+      const int64_t v = f.values[i];
+      lo[i] = seen[i] ? std::min(lo[i], v) : v;
+      hi[i] = seen[i] ? std::max(hi[i], v) : v;
+      seen[i] = true;
+    }
+  }
+  std::array<RdoFap, kFapCount> out{};
+  for (size_t i = 0; i < kFapCount; ++i) {
+    const double step = double(fapTable()[i].quantStep) * std::max(fapQuant, 1);
+    const double r = std::max({double(hi[i] - lo[i]), step, 1.0});
+    out[i].weight = 1.0 / (r * r);
+    out[i].multiple =
+        std::max<int64_t>(1, std::llround(r * std::sqrt(6.0 * lambda / std::numbers::ln2) / step));
+  }
+  return out;
+}
+
+// Candidate levels for `residual`: the nearest level, one step nearer zero, zero, and the
+// nearest two on the FAP's coarser grid; of those inside `range`, the one with the least
+// weight * e^2 + lambda * bits(level).
+template <typename Bits>
+int64_t rdoLevel(int64_t residual, int64_t nearest, int64_t step, const RdoFap& fap, double lambda,
+                 const LevelRange& range, Bits&& bits) {
+  const int64_t m = fap.multiple;
+  const int64_t down = (nearest >= 0 ? nearest / m : -((-nearest + m - 1) / m)) * m;
+  const std::array<int64_t, 5> candidates{nearest,
+                                          nearest > 0   ? nearest - 1
+                                          : nearest < 0 ? nearest + 1
+                                                        : 0,
+                                          0, down, down + m};
+  int64_t best = std::clamp<int64_t>(nearest, range.min, range.max);
+  double bestCost = std::numeric_limits<double>::infinity();
+  for (const int64_t level : candidates) {
+    if (level < range.min || level > range.max) continue;
+    const auto e = static_cast<double>(residual - dequantise(level, step));
+    const double cost = fap.weight * e * e + lambda * bits(level);
+    if (cost < bestCost) {
+      bestCost = cost;
+      best = level;
+    }
+  }
+  return best;
+}
+
+// A model-free estimate of an inter level's bits for choosing ranges before the models exist:
+// about what an adaptive model that has seen mostly zeros spends.
+double staticLevelBits(int64_t level) {
+  return level == 0 ? 0.5 : 2.0 + 2.0 * std::log2(static_cast<double>(std::llabs(level)) + 1.0);
+}
+
 class PredictiveEncoder {
  public:
   PredictiveEncoder(std::span<const FapFrame> frames, const FbaEncodeOptions& options,
                     const FrameRateCode& rate, EncodeOutput& output)
-      : frames_(frames), options_(options), rate_(rate), output_(output), out_(output.out) {}
+      : frames_(frames), options_(options), rate_(rate), output_(output), out_(output.out) {
+    if (options.rdoLambda > 0) rdo_ = rdoFaps(frames, options.fapQuant, options.rdoLambda);
+  }
 
   // One intra plane for frames_[begin] and inter planes for the rest of [begin, end).
   void encodeGroup(size_t begin, size_t end) {
@@ -238,17 +308,29 @@ class PredictiveEncoder {
     for (size_t i = 2; i < kFapCount; ++i) {
       if (state_.mask[i]) masked.push_back(i);
     }
-    std::array<int64_t, kFapCount> reconstruction{};
-    for (size_t k = begin; k < end; ++k) {  // frame by frame: the frames lie in a row in memory
-      const int inter = k == begin ? 0 : 1;
-      for (size_t i : masked) {
-        const int64_t step = state_.steps[i];
-        const int64_t level = std::clamp<int64_t>(
-            quantise(frames_[k].values[i] - reconstruction[i], step), -cap, cap);
-        reconstruction[i] += dequantise(level, step);
-        needMax[inter][i] = std::max(needMax[inter][i], level);
-        needMin[inter][i] = std::min(needMin[inter][i], level);
+    // With RDO quantisation its loop runs too (on a static rate estimate: the models do not
+    // exist yet), and the ranges hold what either loop needs.
+    const int loops = options_.rdoLambda > 0 ? 2 : 1;
+    for (int loop = 0; loop < loops; ++loop) {
+      std::array<int64_t, kFapCount> reconstruction{};
+      for (size_t k = begin; k < end; ++k) {  // frame by frame: the frames lie in a row
+        const int inter = k == begin ? 0 : 1;
+        for (size_t i : masked) {
+          const int64_t step = state_.steps[i];
+          const int64_t residual = frames_[k].values[i] - reconstruction[i];
+          int64_t level = std::clamp<int64_t>(quantise(residual, step), -cap, cap);
+          if (inter && loop == 1) {
+            level = rdoLevel(residual, level, step, rdo_[i], options_.rdoLambda, {-cap, cap},
+                             staticLevelBits);
+          }
+          reconstruction[i] += dequantise(level, step);
+          needMax[inter][i] = std::max(needMax[inter][i], level);
+          needMin[inter][i] = std::min(needMin[inter][i], level);
+        }
       }
+    }
+    if (options_.rdoLambda > 0) {
+      for (size_t i : masked) shrinkInterRange(begin, end, i, cap, needMin[1][i], needMax[1][i]);
     }
     const double codeBits = markerBitsPerFlag() + 5.0 * static_cast<double>(masked.size());
     const int64_t counts[2] = {1, static_cast<int64_t>(end - begin) - 1};
@@ -289,6 +371,56 @@ class PredictiveEncoder {
       }
     }
     return codes;
+  }
+
+  // RDO of the inter range itself: a FAP that moves only now and then pays for the whole
+  // alphabet its range opens in every frame (the adaptive model's learning), so keeping one
+  // side (or both) of the range at 0 can cost less than the motion it loses. Of the fitted
+  // range [lo, hi] and those with a side at 0, the one with the least weighted squared error
+  // plus lambda times what an adaptive model spends on the levels, on this group's frames.
+  void shrinkInterRange(size_t begin, size_t end, size_t i, int cap, int64_t& lo, int64_t& hi) {
+    const int64_t step = state_.steps[i];
+    const auto levels = [&](int64_t need) {
+      return int64_t{levelsOf(fitCode(need, options_.fapQuant), options_.fapQuant)};
+    };
+    std::optional<double> best;
+    int64_t bestLo = lo, bestHi = hi;
+    const std::array<std::pair<int64_t, int64_t>, 4> options{
+        {{lo, hi}, {int64_t{0}, hi}, {lo, int64_t{0}}, {int64_t{0}, int64_t{0}}}};
+    for (size_t o = 0; o < options.size(); ++o) {
+      const auto [l, h] = options[o];
+      if (std::find(options.begin(), options.begin() + static_cast<std::ptrdiff_t>(o),
+                    options[o]) != options.begin() + static_cast<std::ptrdiff_t>(o)) {
+        continue;  // the same as one tried (a side of the fitted range is 0 already)
+      }
+      const LevelRange range{static_cast<int>(-levels(-l)), static_cast<int>(levels(h))};
+      std::vector<int>& histogram = histogram_;
+      histogram.assign(static_cast<size_t>(range.size()), 0);
+      int64_t reconstruction = dequantise(
+          std::clamp<int64_t>(quantise(frames_[begin].values[i], step), -cap, cap), step);
+      double distortion = 0;
+      for (size_t k = begin + 1; k < end; ++k) {
+        const int64_t residual = frames_[k].values[i] - reconstruction;
+        const int64_t nearest = std::clamp<int64_t>(quantise(residual, step), -cap, cap);
+        const int64_t level =
+            rdoLevel(residual, nearest, step, rdo_[i], options_.rdoLambda, range, staticLevelBits);
+        reconstruction += dequantise(level, step);
+        const auto e = static_cast<double>(frames_[k].values[i] - reconstruction);
+        distortion += rdo_[i].weight * e * e;
+        ++histogram[static_cast<size_t>(level - range.min)];
+      }
+      // An adaptive model's code length for this histogram (counts from 1, halving ignored).
+      double bits = learningBits(range.size(), static_cast<int64_t>(end - begin) - 1);
+      for (const int c : histogram) bits -= std::lgamma(c + 1.0) / std::numbers::ln2;
+      const double cost = distortion + options_.rdoLambda * bits;
+      if (!best || cost < *best) {
+        best = cost;
+        bestLo = l;
+        bestHi = h;
+      }
+    }
+    lo = bestLo;
+    hi = bestHi;
   }
 
   // Codes a level under the intra range (uniform, see PredictiveState) or the inter range and
@@ -338,9 +470,24 @@ class PredictiveEncoder {
       if (!state_.mask[i]) continue;
       const int64_t step = state_.step(fap);
       const int64_t prediction = intra ? 0 : state_.previous[i];
+      const int64_t residual = frame.values[i] - prediction;
+      int64_t wanted = quantise(residual, step);
+      if (!intra && options_.rdoLambda > 0) {
+        const LevelRange& range = state_.interRange[i];
+        const AdaptiveModel& model = state_.interModel[i];
+        const auto bits = [&](int64_t l) {  // rdoLevel asks only for levels in the range
+          return model.idealBits(static_cast<int>(l - range.min));
+        };
+        // Only what no range code reaches counts as clipped: the ranges are RDO's choice too
+        // (shrinkInterRange), so a level they keep out is a decision, not a loss.
+        if (std::llabs(wanted) > levelsOf(kMaxRangeCode, state_.fapQuant)) {
+          ++output_.stats.clippedValues;
+        }
+        wanted = rdoLevel(residual, wanted, step, rdo_[i], options_.rdoLambda, range, bits);
+      }
       const int level =
-          codeLevel(coder, quantise(frame.values[i] - prediction, step), intra,
-                    intra ? state_.intraRange[i] : state_.interRange[i], state_.interModel[i]);
+          codeLevel(coder, wanted, intra, intra ? state_.intraRange[i] : state_.interRange[i],
+                    state_.interModel[i]);
       state_.previous[i] = prediction + dequantise(level, step);
     }
     coder.flush();
@@ -361,6 +508,8 @@ class PredictiveEncoder {
   EncodeOutput& output_;
   BitWriter& out_;
   PredictiveState state_;
+  std::array<RdoFap, kFapCount> rdo_{};  // when rdoLambda > 0
+  std::vector<int> histogram_;           // shrinkInterRange's, kept to spare allocations
 };
 
 }  // namespace

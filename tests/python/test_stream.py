@@ -102,6 +102,9 @@ def test_encode_and_decode_every_mode(joy, mode, tmp_path):
     assert decoded == enc.reconstruction
     decoded.name = joy.name
     assert mpeg4face.psnr(joy, decoded) == pytest.approx(enc.psnr)
+    # The robust PSNR (the worst FAPs count) is never above eq. (8).
+    assert mpeg4face.robust_psnr(joy, decoded) == pytest.approx(enc.robust_psnr)
+    assert enc.robust_psnr <= enc.psnr
     path = tmp_path / "joy.fba"
     path.write_bytes(enc.data)
     from_file = mpeg4face.read_fap_stream(path)
@@ -110,7 +113,10 @@ def test_encode_and_decode_every_mode(joy, mode, tmp_path):
 
 def test_lossless_and_errors(joy, data_dir):
     enc = mpeg4face.encode_fba(joy, fap_quant=0)
-    assert enc.psnr == float("inf")
+    assert enc.psnr == float("inf") and enc.robust_psnr == float("inf")
+    rdo = mpeg4face.encode_fba(joy, fap_quant=2, rdo_lambda=2e-3)
+    assert rdo.bits < mpeg4face.encode_fba(joy, fap_quant=2).bits
+    assert mpeg4face.decode_fba(rdo.data) == rdo.reconstruction
     with pytest.raises(ValueError, match="unknown mode 'zip'"):
         mpeg4face.encode_fba(joy, mode="zip")
     with pytest.raises(mpeg4face.Error) as e:

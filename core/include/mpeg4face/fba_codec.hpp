@@ -41,6 +41,13 @@ struct FbaEncodeOptions {
   FapCodingMode pcaTemporal = FapCodingMode::Predictive;
   double pcaEnergy = 0.98;
   int pcaBasisBits = 4;
+  // Predictive mode (and PCA's predictive components), encoder side only: rate-distortion
+  // optimised quantisation. 0 (default) codes each value at the nearest level. lambda > 0
+  // lets each inter value take the nearest level, one step nearer zero, or zero, whichever
+  // minimises e^2 / R^2 + lambda * bits, e the reconstruction error, R the FAP's range over
+  // the stream (the robust PSNR's normalisation) and bits what the FAP's adaptive model would
+  // spend on it now (docs/rate-distortion.md, "Predictive mode: RDO quantisation").
+  double rdoLambda = 0.0;
   // Wrap fba_object in visual_object_sequence and visual_object headers (profile Simple Face
   // Animation level 1, visual_object_type FBA), as a 14496-2 elementary stream starts.
   bool visualObjectSequence = false;
