@@ -272,8 +272,7 @@ class Writer {
   // introduced the lower one). The top level interleaves the meshes no Transform holds with
   // the roots the same way. An order no interleaving gives (a model made otherwise) is kept
   // by Shapes of every mesh in number order ahead of the roots: the reader numbers them
-  // there and takes a Shape outside every Transform for a mesh at the origin, which a mesh
-  // some Transform holds already is.
+  // there, and a top-level Shape of a mesh that a Transform holds adds nothing to the model.
   void order() {
     std::vector<int> transformOrder, firstUse;
     std::vector<bool> meshSeen(model_.meshes.size(), false);
