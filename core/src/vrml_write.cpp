@@ -203,11 +203,17 @@ class Writer {
       requireFinite(tr.scale, where + "scale");
       requireFinite(tr.center, where + "center");
     }
+    const std::vector<Eigen::Affine3d> world = model_.meshWorldMatrices();
     for (const auto& [id, fp] : model_.featurePoints) {
       if (findFeaturePoint(id) == nullptr) {
         throw Error({}, 0, "featurePoints", "'" + id + "' is not an MPEG-4 feature point");
       }
-      if (fp.mesh < 0) requireFinite(fp.position, "featurePoints " + id);
+      if (fp.mesh < 0) {
+        requireFinite(fp.position, "featurePoints " + id);
+      } else {  // validate() checked the vertex; featurePointsCoord holds its world position
+        requireFinite(world[fp.mesh] * model_.meshes[fp.mesh].coord.row(fp.vertex).transpose(),
+                      "featurePoints " + id + " (its vertex through the transforms)");
+      }
     }
     for (std::size_t i = 0; i < face_.faceDefTables.size(); ++i) checkTable(i);
   }

@@ -608,6 +608,22 @@ TEST(Vrml, WriterRejectsWhatItCannotWrite) {
     EXPECT_EQ(errorOf([&] { vrmlText(face); }).field(), "featurePoints");
   }
   {
+    // A vertex bound to a feature point, finite itself, that the transforms take beyond the
+    // range of double: featurePointsCoord would hold 'inf'.
+    MpegFace face;
+    IndexedFaceSet mesh;
+    mesh.coord = Points3::Constant(3, 3, 1e300);
+    mesh.coordIndex = {0, 1, 2, -1};
+    face.faceSceneGraph.addMeshWithTransform(mesh);
+    face.faceSceneGraph.transforms[0].scale.setConstant(1e300);
+    FeaturePointBinding fp;
+    fp.mesh = 0;
+    fp.vertex = 2;
+    face.faceSceneGraph.featurePoints["2.1"] = fp;
+    EXPECT_EQ(errorOf([&] { vrmlText(face); }).field(),
+              "featurePoints 2.1 (its vertex through the transforms)");
+  }
+  {
     const fs::path path = test::scratchDir() / "bad.wrl";
     MpegFace face = richFace();
     face.faceDefTables[0].fapID = 0;
@@ -806,7 +822,10 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"vrml_feature_point_count.wrl", 4, "FDP.featurePointsCoord",
                   "3 points; expected the 84"},
         Malformed{"vrml_feature_point_info.wrl", 16, "WorldInfo.info",
-                  "vertex '9' is not a vertex of that mesh"}),
+                  "vertex '9' is not a vertex of that mesh"},
+        // Written, its position in featurePointsCoord would be 'inf', which no reader takes.
+        Malformed{"vrml_feature_point_overflow.wrl", 17, "WorldInfo.info",
+                  "entry 1 '2.1 mesh Skin vertex 0': the vertex's position in the face"}),
     [](const testing::TestParamInfo<Malformed>& param) {
       std::string name = fs::path(param.param.file).stem().string();
       std::replace(name.begin(), name.end(), '.', '_');
