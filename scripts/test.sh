@@ -75,13 +75,24 @@ for target in build/fuzz/fuzz/fuzz_*; do
   corpus=$(mktemp -d)
   cp -r "tests/fuzz_corpus/${name#fuzz_}/." "$corpus/"
   log=build/fuzz/$name.log
+  # Inputs it once failed on (tests/fuzz_regressions/<name>/), replayed before it fuzzes.
+  regressions=()
+  if [[ -d tests/fuzz_regressions/${name#fuzz_} ]]; then
+    mapfile -t regressions < <(find "tests/fuzz_regressions/${name#fuzz_}" -type f ! -name '*.md')
+  fi
+  if ((${#regressions[@]})) && ! "$target" -rss_limit_mb=2048 -timeout=10 "${regressions[@]}" \
+      >"$log" 2>&1; then
+    tail -n 60 "$log"
+    echo "$name FAILED on a regression input of tests/fuzz_regressions/${name#fuzz_}/"
+    exit 1
+  fi
   if ! "$target" -max_total_time="${MPEG4FACE_FUZZ_SECONDS:-30}" -rss_limit_mb=2048 -timeout=10 \
       -print_final_stats=1 -artifact_prefix=build/fuzz/artifacts/ "$corpus" >"$log" 2>&1; then
     tail -n 60 "$log"
     echo "$name FAILED; the input is in build/fuzz/artifacts/"
     exit 1
   fi
-  echo "$name: $(grep -E '^stat::number_of_executed_units' "$log" | tr -s ' ' | cut -d' ' -f2) inputs, no failure"
+  echo "$name: ${#regressions[@]} regression inputs and $(grep -E '^stat::number_of_executed_units' "$log" | tr -s ' ' | cut -d' ' -f2) inputs, no failure"
   passed=$((passed + 1))
   rm -rf "$corpus"
 done

@@ -1142,6 +1142,7 @@ class Builder {
 
   void featurePointInfo(const Node& node, const WorldInfoNode& info) {
     FaceModel& model = face_.faceSceneGraph;
+    const std::vector<Eigen::Affine3d> world = model.meshWorldMatrices();
     std::vector<std::string_view> tokens;
     std::vector<std::string> seen;
     for (std::size_t i = 0; i < info.info.size(); ++i) {
@@ -1168,6 +1169,14 @@ class Builder {
         if (!text::tryParseInt(tokens[4], binding.vertex) || binding.vertex < 0 ||
             binding.vertex >= model.meshes[static_cast<std::size_t>(binding.mesh)].vertexCount()) {
           bad("vertex " + text::quote(tokens[4]) + " is not a vertex of that mesh");
+        }
+        // Its position in the face is what featurePointsCoord holds when the face is written.
+        const IndexedFaceSet& held = model.meshes[static_cast<std::size_t>(binding.mesh)];
+        if (!(world[static_cast<std::size_t>(binding.mesh)] *
+              held.coord.row(binding.vertex).transpose())
+                 .allFinite()) {
+          bad("the vertex's position in the face (scaled and moved by the Transforms above its "
+              "mesh) is beyond the range of double");
         }
         model.featurePoints[id] = binding;
       } else if (tokens.size() == 5 && tokens[1] == names::kPosition) {

@@ -203,11 +203,17 @@ class Writer {
       requireFinite(tr.scale, where + "scale");
       requireFinite(tr.center, where + "center");
     }
+    const std::vector<Eigen::Affine3d> world = model_.meshWorldMatrices();
     for (const auto& [id, fp] : model_.featurePoints) {
       if (findFeaturePoint(id) == nullptr) {
         throw Error({}, 0, "featurePoints", "'" + id + "' is not an MPEG-4 feature point");
       }
-      if (fp.mesh < 0) requireFinite(fp.position, "featurePoints " + id);
+      if (fp.mesh < 0) {
+        requireFinite(fp.position, "featurePoints " + id);
+      } else {  // validate() checked the vertex; featurePointsCoord holds its world position
+        requireFinite(world[fp.mesh] * model_.meshes[fp.mesh].coord.row(fp.vertex).transpose(),
+                      "featurePoints " + id + " (its vertex through the transforms)");
+      }
     }
     for (std::size_t i = 0; i < face_.faceDefTables.size(); ++i) checkTable(i);
   }
@@ -264,23 +270,54 @@ class Writer {
     }
   }
 
-  // DEF names in writing order (meshes first, so that a mesh keeps its plain name when its
-  // transform has the same one), and the meshes no transform holds.
+  // The writing order. The reader numbers meshes in the order they first appear, but a
+  // Transform holds its meshes and its child Transforms in two lists, so their interleaving
+  // in `children` is chosen here: a mesh goes before the next child Transform when it is
+  // already written or the next in number, otherwise that child comes first. This restores
+  // the order of any face the reader made (a mesh of higher number follows the subtree that
+  // introduced the lower one). The top level interleaves the meshes no Transform holds with
+  // the roots the same way. An order no interleaving gives (a model made otherwise) is kept
+  // by Shapes of every mesh in number order ahead of the roots: the reader numbers them
+  // there, and a top-level Shape of a mesh that a Transform holds adds nothing to the model.
   void order() {
-    std::vector<int> transformOrder, meshOrder;
+    std::vector<int> transformOrder, firstUse;
     std::vector<bool> meshSeen(model_.meshes.size(), false);
     std::vector<bool> reached(model_.transforms.size(), false);
+    childItems_.resize(model_.transforms.size());
+    const auto merge = [&](const std::vector<int>& meshes, const std::vector<int>& transforms,
+                           std::vector<Item>& items, const auto& walk) {
+      std::size_t i = 0, j = 0;
+      while (i < meshes.size() || j < transforms.size()) {
+        const bool meshNext = i < meshes.size() && (j == transforms.size() || meshSeen[meshes[i]] ||
+                                                    meshes[i] == static_cast<int>(firstUse.size()));
+        if (meshNext) {
+          const int m = meshes[i++];
+          if (!meshSeen[m]) firstUse.push_back(m);
+          meshSeen[m] = true;
+          items.push_back({true, m});
+        } else {
+          const int t = transforms[j++];
+          items.push_back({false, t});
+          walk(walk, t);
+        }
+      }
+    };
+    std::vector<bool> held(model_.meshes.size(), false);
+    for (const Transform& tr : model_.transforms) {
+      for (int m : tr.meshes) held[m] = true;
+    }
+    std::vector<int> unheld;
+    for (std::size_t m = 0; m < held.size(); ++m) {
+      if (!held[m]) unheld.push_back(static_cast<int>(m));
+    }
     // validate() ruled out cycles and shared children, so this walk ends.
-    const auto walk = [&](auto&& self, int t) -> void {
+    const auto walk = [&](const auto& self, int t) -> void {
       reached[t] = true;
       transformOrder.push_back(t);
-      for (int m : model_.transforms[t].meshes) {
-        if (!meshSeen[m]) meshOrder.push_back(m);
-        meshSeen[m] = true;
-      }
-      for (int child : model_.transforms[t].children) self(self, child);
+      const Transform& tr = model_.transforms[t];
+      merge(tr.meshes, tr.children, childItems_[t], self);
     };
-    for (int root : model_.roots) walk(walk, root);
+    merge(unheld, model_.roots, topItems_, walk);
     for (std::size_t t = 0; t < reached.size(); ++t) {
       if (!reached[t]) {
         throw Error({}, 0,
@@ -288,18 +325,42 @@ class Writer {
                     "is not reachable from the roots: a VRML scene graph has no place for it");
       }
     }
-    for (std::size_t m = 0; m < meshSeen.size(); ++m) {
-      if (!meshSeen[m]) {
-        unheldMeshes_.push_back(static_cast<int>(m));
-        meshOrder.push_back(static_cast<int>(m));
-      }
+    bool inNumberOrder = true;
+    for (std::size_t k = 0; k < firstUse.size(); ++k) {
+      inNumberOrder = inNumberOrder && firstUse[k] == static_cast<int>(k);
     }
+    if (!inNumberOrder) {
+      topItems_.clear();
+      for (std::size_t m = 0; m < model_.meshes.size(); ++m) {
+        topItems_.push_back({true, static_cast<int>(m)});
+      }
+      for (int root : model_.roots) topItems_.push_back({false, root});
+    }
+    // DEF names: meshes first, so that a mesh keeps its plain name when its transform has
+    // the same one.
     std::set<std::string> taken;
     meshDef_.resize(model_.meshes.size());
     transformDef_.resize(model_.transforms.size());
-    for (int m : meshOrder) meshDef_[m] = uniqueName(model_.meshes[m].name, taken);
+    for (std::size_t m = 0; m < model_.meshes.size(); ++m) {
+      meshDef_[m] = uniqueName(model_.meshes[m].name, taken);
+    }
     for (int t : transformOrder) transformDef_[t] = uniqueName(model_.transforms[t].name, taken);
     meshWritten_.assign(model_.meshes.size(), false);
+  }
+
+  // A child of a Transform or of the faceSceneGraph, in writing order.
+  struct Item {
+    bool isMesh = false;
+    int index = 0;  // into meshes or transforms
+  };
+  void writeItems(const std::vector<Item>& items, int n) {
+    for (const Item& item : items) {
+      if (item.isMesh) {
+        writeShape(item.index, n);
+      } else {
+        writeTransform(item.index, n);
+      }
+    }
   }
 
   void indent(int n) { out_.append(static_cast<std::size_t>(n), ' '); }
@@ -441,8 +502,7 @@ class Writer {
   void writeSceneGraph(int n) {
     indent(n);
     out_ += "faceSceneGraph [\n";
-    for (int root : model_.roots) writeTransform(root, n + 2);
-    for (int m : unheldMeshes_) writeShape(m, n + 2);
+    writeItems(topItems_, n + 2);
     indent(n);
     out_ += "]\n";
   }
@@ -463,8 +523,7 @@ class Writer {
     if (!tr.meshes.empty() || !tr.children.empty()) {
       indent(n + 2);
       out_ += "children [\n";
-      for (int m : tr.meshes) writeShape(m, n + 4);
-      for (int child : tr.children) writeTransform(child, n + 4);
+      writeItems(childItems_[t], n + 4);
       indent(n + 2);
       out_ += "]\n";
     }
@@ -629,7 +688,8 @@ class Writer {
   std::string out_;
   std::vector<std::string> meshDef_, transformDef_;
   std::vector<bool> meshWritten_;
-  std::vector<int> unheldMeshes_;
+  std::vector<Item> topItems_;
+  std::vector<std::vector<Item>> childItems_;  // per transform
 };
 
 }  // namespace

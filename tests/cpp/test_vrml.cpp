@@ -486,6 +486,75 @@ TEST(Vrml, ReaderNumbersDepthFirst) {
   EXPECT_EQ(read.faceDefTables[0].faceDefTransform[0].transform, 1);
 }
 
+// Inputs on which fuzz_vrml once failed (tests/fuzz_regressions/vrml/README.md): meshes that
+// a Transform holds between its child Transforms, and a top-level Shape ahead of the first
+// Transform, came back in the order the writer grouped them in, not the order read.
+TEST(Vrml, FuzzRegressionsKeepMeshOrder) {
+  const fs::path dir = kData.parent_path() / "fuzz_regressions" / "vrml";
+  const std::pair<const char*, std::vector<std::string>> cases[] = {
+      {"vrml-roundtrip-mesh-order.wrl", {"Chin", "Brow", "HeadMesh"}},
+      {"vrml-roundtrip-mesh-order-2.wrl", {"HeadMesh", "Brow", "HeadMesh", "Brow"}}};
+  for (const auto& [file, names] : cases) {
+    SCOPED_TRACE(file);
+    const MpegFace face = readVrml(dir / file);
+    std::vector<std::string> read;
+    for (const IndexedFaceSet& mesh : face.faceSceneGraph.meshes) read.push_back(mesh.name);
+    EXPECT_EQ(read, names);
+    expectSameFace(face, parseVrml(vrmlText(face), "again.wrl"), 0, kRotationTolerance);
+  }
+}
+
+// The writer keeps the mesh order, and so the tables' and feature points' references, of a
+// model whose meshes are interleaved with child Transforms, and of one whose order no
+// interleaving gives (meshes numbered against the depth-first order of their transforms).
+TEST(Vrml, MeshOrderSurvivesARoundTrip) {
+  // Meshes 0 .. count - 1, each with a table entry; a root t0 whose children are t1, t2 ...;
+  // transform t holds meshesOf[t]; a mesh no list names is held by none (top level).
+  const auto makeFace = [](int count, const std::vector<std::vector<int>>& meshesOf) {
+    MpegFace face;
+    FaceModel& model = face.faceSceneGraph;
+    FaceDefTables table;
+    table.fapID = 3;
+    for (int m = 0; m < count; ++m) {
+      IndexedFaceSet mesh;
+      mesh.name = "m" + std::to_string(m);
+      mesh.coord = Points3::Identity(3 + m, 3);
+      mesh.coordIndex = {0, 1, 2, -1};
+      model.meshes.push_back(mesh);
+      FaceDefMesh def;
+      def.mesh = m;
+      def.intervalBorders = {0, 1};
+      def.coordIndex = {m % 3};
+      def.displacements = Points3::Constant(1, 3, m);
+      table.faceDefMesh.push_back(def);
+    }
+    for (std::size_t t = 0; t < meshesOf.size(); ++t) {
+      Transform tr;
+      tr.name = "t" + std::to_string(t);
+      tr.meshes = meshesOf[t];
+      if (t > 0) model.transforms[0].children.push_back(static_cast<int>(t));
+      model.transforms.push_back(tr);
+    }
+    model.roots = {0};
+    FeaturePointBinding fp;
+    fp.mesh = count - 1;
+    fp.vertex = count + 1;  // its last vertex
+    model.featurePoints["2.1"] = fp;
+    face.faceDefTables = {table};
+    return face;
+  };
+  // Mesh 0 is held by none; t0 holds meshes 1 and 4 around its children t1 (mesh 2) and t2
+  // (mesh 3): the top level is written as m0, t0 and t0's children as m1, t1, t2, m4.
+  const MpegFace interleaved = makeFace(5, {{1, 4}, {2}, {3}});
+  const std::string text = vrmlText(interleaved);
+  EXPECT_LT(text.find("DEF m0 "), text.find("DEF t0 "));
+  EXPECT_LT(text.find("DEF t2 "), text.find("DEF m4 "));
+  expectSameFace(interleaved, parseVrml(text, "interleaved.wrl"), 0, kRotationTolerance);
+  // t1 holds mesh 2 and t2 mesh 1: no interleaving numbers them in order.
+  const MpegFace reversed = makeFace(4, {{0}, {2}, {1}});
+  expectSameFace(reversed, parseVrml(vrmlText(reversed), "reversed.wrl"), 0, kRotationTolerance);
+}
+
 TEST(Vrml, EmptyFaceRoundTrips) {
   const MpegFace read = parseVrml(vrmlText(MpegFace{}), "empty.wrl");
   EXPECT_TRUE(read.faceSceneGraph.meshes.empty());
@@ -537,6 +606,22 @@ TEST(Vrml, WriterRejectsWhatItCannotWrite) {
     MpegFace face = richFace();
     face.faceSceneGraph.featurePoints["12.1"] = FeaturePointBinding{};
     EXPECT_EQ(errorOf([&] { vrmlText(face); }).field(), "featurePoints");
+  }
+  {
+    // A vertex bound to a feature point, finite itself, that the transforms take beyond the
+    // range of double: featurePointsCoord would hold 'inf'.
+    MpegFace face;
+    IndexedFaceSet mesh;
+    mesh.coord = Points3::Constant(3, 3, 1e300);
+    mesh.coordIndex = {0, 1, 2, -1};
+    face.faceSceneGraph.addMeshWithTransform(mesh);
+    face.faceSceneGraph.transforms[0].scale.setConstant(1e300);
+    FeaturePointBinding fp;
+    fp.mesh = 0;
+    fp.vertex = 2;
+    face.faceSceneGraph.featurePoints["2.1"] = fp;
+    EXPECT_EQ(errorOf([&] { vrmlText(face); }).field(),
+              "featurePoints 2.1 (its vertex through the transforms)");
   }
   {
     const fs::path path = test::scratchDir() / "bad.wrl";
@@ -737,7 +822,10 @@ INSTANTIATE_TEST_SUITE_P(
         Malformed{"vrml_feature_point_count.wrl", 4, "FDP.featurePointsCoord",
                   "3 points; expected the 84"},
         Malformed{"vrml_feature_point_info.wrl", 16, "WorldInfo.info",
-                  "vertex '9' is not a vertex of that mesh"}),
+                  "vertex '9' is not a vertex of that mesh"},
+        // Written, its position in featurePointsCoord would be 'inf', which no reader takes.
+        Malformed{"vrml_feature_point_overflow.wrl", 17, "WorldInfo.info",
+                  "entry 1 '2.1 mesh Skin vertex 0': the vertex's position in the face"}),
     [](const testing::TestParamInfo<Malformed>& param) {
       std::string name = fs::path(param.param.file).stem().string();
       std::replace(name.begin(), name.end(), '.', '_');

@@ -18,7 +18,8 @@ namespace mpeg4face {
 // name) and faceDefTables (FaceDefMesh / FaceDefTransform referring to them by USE), then a
 // WorldInfo titled "mpeg4face feature points" saying which points are mesh vertices or
 // unbound. Names become VRML identifiers reversibly ('%XX' escapes, '%_N' to make a repeated
-// name unique). Numbers are the shortest text that reads back to the same double. Rotations
+// name unique). Meshes are placed among the Transforms so that they read back in their
+// order (docs/vrml.md, "Scene graph"). Numbers are the shortest text that reads back to the same double. Rotations
 // are written as axis-angle: a quaternion comes back within 1e-15 rad, or as -q.
 // Morph targets, weights, animations and sourceIndex are not part of an MPEG-4 face and are
 // not written. Throws mpeg4face::Error naming the field for a model that fails validate(),
