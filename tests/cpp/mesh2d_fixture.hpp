@@ -33,29 +33,29 @@ inline double segmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a
   return (a + t * ab - p).norm();
 }
 
-// A Delaunay intra plane of `count` nodes around (cx, cy): a circle (convex) or a star with
-// `spikes` spikes (concave) of `boundary` nodes, the rest on a jittered grid inside, kept
-// 1/3 of the grid spacing from the boundary.
-inline Mesh2dSequence delaunayFixture(int count, int boundary, bool concave, double radius,
-                                      unsigned seed = 1) {
+// A Delaunay intra plane of `count` nodes: the boundary `polygon`, the rest on a jittered grid
+// inside it, kept 1/3 of the grid spacing from the boundary.
+inline Mesh2dSequence delaunayFixture(int count, const std::vector<Eigen::Vector2d>& polygon,
+                                      int width, int height, unsigned seed = 1) {
   Mesh2dSequence s;
   s.type = Mesh2dType::Delaunay;
-  s.width = s.height = static_cast<int>(std::ceil(2 * radius + 40));
-  const double c = radius + 20;
-  std::vector<Eigen::Vector2d> polygon;
-  for (int i = 0; i < boundary; ++i) {
-    const double a = 2 * std::numbers::pi * i / boundary;
-    const double r = concave ? radius * (i % 2 == 0 ? 1.0 : 0.55) : radius;
-    polygon.emplace_back(c + r * std::cos(a), c + r * std::sin(a));
+  s.width = width;
+  s.height = height;
+  Eigen::Vector2d low = polygon[0], high = polygon[0];
+  for (const Eigen::Vector2d& p : polygon) {
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
   }
+  const auto boundary = static_cast<int>(polygon.size());
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> jitter(-0.25, 0.25);
   // Shrink the grid until enough interior nodes fit.
   std::vector<Eigen::Vector2d> interior;
-  for (double spacing = radius; interior.size() < size_t(count - boundary); spacing *= 0.9) {
+  for (double spacing = (high - low).maxCoeff(); interior.size() < size_t(count - boundary);
+       spacing *= 0.9) {
     interior.clear();
-    for (double y = c - radius; y <= c + radius; y += spacing) {
-      for (double x = c - radius; x <= c + radius; x += spacing) {
+    for (double y = low.y() + spacing / 2; y < high.y(); y += spacing) {
+      for (double x = low.x() + spacing / 2; x < high.x(); x += spacing) {
         const Eigen::Vector2d p(x + jitter(random) * spacing, y + jitter(random) * spacing);
         if (!insidePolygon(polygon, p)) continue;
         bool clear = true;
@@ -75,6 +75,31 @@ inline Mesh2dSequence delaunayFixture(int count, int boundary, bool concave, dou
   s.boundary = boundary;
   s.frames.push_back(nodes);
   return s;
+}
+
+// The same around (r + 20, r + 20): a circle (convex) or a star (concave) of `boundary` nodes.
+inline Mesh2dSequence delaunayFixture(int count, int boundary, bool concave, double radius,
+                                      unsigned seed = 1) {
+  const double c = radius + 20;
+  std::vector<Eigen::Vector2d> polygon;
+  for (int i = 0; i < boundary; ++i) {
+    const double a = 2 * std::numbers::pi * i / boundary;
+    const double r = concave ? radius * (i % 2 == 0 ? 1.0 : 0.55) : radius;
+    polygon.emplace_back(c + r * std::cos(a), c + r * std::sin(a));
+  }
+  const int size = static_cast<int>(std::ceil(2 * c));
+  return delaunayFixture(count, polygon, size, size, seed);
+}
+
+// The same over a whole width x height image, the boundary its frame (every `side` pixels).
+inline Mesh2dSequence delaunayImageFixture(int count, int width, int height, double side) {
+  std::vector<Eigen::Vector2d> polygon;
+  const double w = width - 1, h = height - 1;
+  for (double x = 0; x < w; x += side) polygon.emplace_back(x, 0);
+  for (double y = 0; y < h; y += side) polygon.emplace_back(w, y);
+  for (double x = w; x > 0; x -= side) polygon.emplace_back(x, h);
+  for (double y = h; y > 0; y -= side) polygon.emplace_back(0, y);
+  return delaunayFixture(count, polygon, width, height);
 }
 
 inline Mesh2dSequence uniformFixture(int nodesX, int nodesY, int topology) {
