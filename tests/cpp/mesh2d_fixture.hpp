@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mpeg4face/mesh2d.hpp"
+#include "mpeg4face/mesh2d_warp.hpp"
 
 namespace mpeg4face::test {
 
@@ -128,6 +129,31 @@ inline void addSmoothFrames(Mesh2dSequence& s, int frames) {
     }
     s.frames.push_back(next);
   }
+}
+
+// A colour texture with detail at several scales.
+inline Image testTexture(int w, int h) {
+  Image image(w, h, 3);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const double v = 128 + 60 * std::sin(x / (7.0 + c) + c) * std::cos(y / 9.0) +
+                         40 * std::sin((x + 2 * y) / 23.0 - c);
+        image.row(y)[x * 3 + c] = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+      }
+    }
+  }
+  return image;
+}
+
+// Bilinear sample of one channel, in double precision.
+inline double bilinear(const Image& image, double x, double y, int c) {
+  const int ix = std::clamp(static_cast<int>(std::floor(x)), 0, image.width - 2);
+  const int iy = std::clamp(static_cast<int>(std::floor(y)), 0, image.height - 2);
+  const double fx = x - ix, fy = y - iy;
+  auto at = [&](int u, int v) { return double(image.row(v)[u * image.channels + c]); };
+  return (1 - fy) * ((1 - fx) * at(ix, iy) + fx * at(ix + 1, iy)) +
+         fy * ((1 - fx) * at(ix, iy + 1) + fx * at(ix + 1, iy + 1));
 }
 
 }  // namespace mpeg4face::test

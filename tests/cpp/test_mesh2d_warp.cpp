@@ -27,15 +27,6 @@ struct Affine {
   }
 };
 
-double bilinear(const Image& image, double x, double y, int c) {
-  const int ix = std::clamp(static_cast<int>(std::floor(x)), 0, image.width - 2);
-  const int iy = std::clamp(static_cast<int>(std::floor(y)), 0, image.height - 2);
-  const double fx = x - ix, fy = y - iy;
-  auto at = [&](int u, int v) { return double(image.row(v)[u * image.channels + c]); };
-  return (1 - fy) * ((1 - fx) * at(ix, iy) + fx * at(ix + 1, iy)) +
-         fy * ((1 - fx) * at(ix, iy + 1) + fx * at(ix + 1, iy + 1));
-}
-
 double psnrAgainstDirectWarp(const Image& texture, const Image& warped, const Affine& affine,
                              double x0, double y0, double x1, double y1) {
   double sum = 0;
@@ -46,7 +37,7 @@ double psnrAgainstDirectWarp(const Image& texture, const Image& warped, const Af
       // Interior: 2 pixels inside the mesh.
       if (s.x() < x0 + 2 || s.x() > x1 - 2 || s.y() < y0 + 2 || s.y() > y1 - 2) continue;
       for (int c = 0; c < 3; ++c) {
-        const double d = warped.row(y)[x * 3 + c] - bilinear(texture, s.x(), s.y(), c);
+        const double d = warped.row(y)[x * 3 + c] - test::bilinear(texture, s.x(), s.y(), c);
         sum += d * d;
         ++count;
       }
@@ -56,22 +47,8 @@ double psnrAgainstDirectWarp(const Image& texture, const Image& warped, const Af
   return 10 * std::log10(255.0 * 255.0 / (sum / static_cast<double>(count)));
 }
 
-Image testTexture(int w, int h) {
-  Image image(w, h, 3);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      for (int c = 0; c < 3; ++c) {
-        const double v = 128 + 60 * std::sin(x / (7.0 + c) + c) * std::cos(y / 9.0) +
-                         40 * std::sin((x + 2 * y) / 23.0 - c);
-        image.row(y)[x * 3 + c] = static_cast<uint8_t>(std::clamp(std::lround(v), 0L, 255L));
-      }
-    }
-  }
-  return image;
-}
-
 TEST(Mesh2dWarp, GlobalAffineMotionMatchesTheDirectWarp) {
-  const Image texture = testTexture(320, 240);
+  const Image texture = test::testTexture(320, 240);
   Mesh2dSequence s;
   s.width = 320;
   s.height = 240;
@@ -98,7 +75,7 @@ TEST(Mesh2dWarp, GlobalAffineMotionMatchesTheDirectWarp) {
 }
 
 TEST(Mesh2dWarp, ExactAtTheNodes) {
-  const Image texture = testTexture(64, 48);
+  const Image texture = test::testTexture(64, 48);
   const UniformMesh2d u{5, 4, 2, 3, 15, 14, 1};
   const Mesh2dNodes intra = uniformMeshNodes(u);
   Mesh2dNodes current = intra;
@@ -115,7 +92,7 @@ TEST(Mesh2dWarp, ExactAtTheNodes) {
 
 TEST(Mesh2dWarp, ImagesRoundTripAndBadImagesAreNamed) {
   const auto dir = test::scratchDir();
-  const Image texture = testTexture(40, 30);
+  const Image texture = test::testTexture(40, 30);
   writeImage(dir / "t.png", texture);
   const Image back = readImage(dir / "t.png");
   EXPECT_EQ(back.pixels, texture.pixels);
@@ -130,7 +107,7 @@ TEST(Mesh2dWarp, ImagesRoundTripAndBadImagesAreNamed) {
   test::addSmoothFrames(s, 3);
   e = test::errorOf([&] { renderMesh2d(texture, s, dir / "frames"); });
   EXPECT_EQ(e.field(), "image");
-  const Image fitting = testTexture(s.width, s.height);
+  const Image fitting = test::testTexture(s.width, s.height);
   renderMesh2d(fitting, s, dir / "frames");
   EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "frame_00002.png"));
   EXPECT_FALSE(std::filesystem::exists(dir / "frames.part"));
