@@ -160,7 +160,7 @@ void renderMesh2d(const Image& texture, const Mesh2dSequence& input,
       if (!std::filesystem::is_regular_file(options.audio)) {
         throw Error(options.audio.string(), 0, "audio", "no such file");
       }
-      argv.insert(argv.end(), {"-i", options.audio.string(), "-c:a", "aac", "-shortest"});
+      argv.insert(argv.end(), {"-i", options.audio.string(), "-c:a", "aac"});
     }
     argv.insert(argv.end(), {"-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt",
                              "yuv420p", part.string()});
