@@ -85,4 +85,5 @@ PYBIND11_MODULE(_core, m) {
   python::bindCheck(m);
   python::bindArkit(m);
   python::bindCapture(m);
+  python::bindMesh2d(m);
 }

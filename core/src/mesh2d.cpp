@@ -200,12 +200,14 @@ void validateMesh2d(const Mesh2dSequence& sequence, const std::string& source) {
   }
   if (sequence.type == Mesh2dType::Uniform) {
     uniformMeshTriangles(sequence.uniform);  // checks the parameters
-    const Mesh2dNodes expected = uniformMeshNodes(sequence.uniform);
-    if (expected.rows() != count) {
+    const long long expectedCount =
+        static_cast<long long>(sequence.uniform.nodesX) * sequence.uniform.nodesY;
+    if (expectedCount != count) {
       throw Error(source, 0, "frames[0]",
                   "has " + std::to_string(count) + " nodes, the uniform mesh " +
-                      std::to_string(expected.rows()));
+                      std::to_string(expectedCount));
     }
+    const Mesh2dNodes expected = uniformMeshNodes(sequence.uniform);
     for (Eigen::Index n = 0; n < count; ++n) {
       if ((expected.row(n) - sequence.frames[0].row(n)).cwiseAbs().maxCoeff() > 1e-3) {
         throw Error(source, 0, "frames[0][" + std::to_string(n) + "]",

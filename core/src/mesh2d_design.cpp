@@ -128,8 +128,8 @@ Mesh2dSequence designDelaunayMesh2d(const Image& image, int nodes, const Image* 
   }
   // Top up on a grid where corners are scarce.
   for (double scale = 1; static_cast<int>(interior.size()) < wanted && scale > 0.2; scale *= 0.8) {
-    for (double y = spacing * scale / 2; y < image.height; y += spacing * scale) {
-      for (double x = spacing * scale / 2; x < image.width; x += spacing * scale) {
+    for (double y = spacing * scale / 2; y < image.height - 1; y += spacing * scale) {
+      for (double x = spacing * scale / 2; x < image.width - 1; x += spacing * scale) {
         if (static_cast<int>(interior.size()) >= wanted) break;
         const cv::Point2d p(halfPixel(x), halfPixel(y));
         if (inner.at<uint8_t>(static_cast<int>(p.y), static_cast<int>(p.x)) &&
