@@ -14,12 +14,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace mpeg4face;
   Mesh2dSequence s;
   try {
-    s = decodeMesh2d(std::span(data, size), "fuzz.m2d");
+    s = decodeMesh2d(std::span(data, size), "fuzz.m2d", 1 << 12);  // small, so runs are fast
   } catch (const Error&) {
     return 0;
   }
   validateMesh2d(s);  // an Error here escapes and aborts: the decoder let something through
-  if (s.frames.size() * static_cast<size_t>(s.frames[0].rows()) > 100000) return 0;
   try {
     const Mesh2dSequence again = decodeMesh2d(encodeMesh2d(s, 1.0 / 256));
     if (again.triangles != s.triangles) std::abort();

@@ -120,7 +120,9 @@ Mesh2dTriangles delaunayMeshTriangles(const Mesh2dNodes& nodes, int boundary,
   CGAL::Polygon_2<Kernel> polygon;
   for (int i = 0; i < boundary; ++i) polygon.push_back(Point(nodes(i, 0), nodes(i, 1)));
   if (!polygon.is_simple()) {
-    // Name the first edge that meets a non-adjacent one.
+    // Name the first edge that meets a non-adjacent one (a quadratic search: for the sizes
+    // a person draws by hand).
+    if (boundary > 1000) throw Error(source, 0, "boundary", "the boundary intersects itself");
     auto segment = [&](int i) {
       return Kernel::Segment_2(polygon[i], polygon[(i + 1) % boundary]);
     };

@@ -307,7 +307,8 @@ std::vector<uint8_t> encodeMesh2d(const Mesh2dSequence& sequence, double step,
   return out.take();
 }
 
-Mesh2dSequence decodeMesh2d(std::span<const uint8_t> data, const std::string& source) {
+Mesh2dSequence decodeMesh2d(std::span<const uint8_t> data, const std::string& source,
+                            uint64_t maxNodeFrames) {
   BitReader in(data, source);
   if (in.readBits(32, "magic") != kMagic) in.fail("magic", "not a version 1 .m2d stream");
   IntraPlane intra;
@@ -339,7 +340,9 @@ Mesh2dSequence decodeMesh2d(std::span<const uint8_t> data, const std::string& so
     }
     if (u.dx == 0 || u.dy == 0) in.fail("dx", "a cell size is 0");
     nodeCount = static_cast<uint64_t>(u.nodesX) * static_cast<uint64_t>(u.nodesY);
-    if (nodeCount * frameCount > kMaxNodeFrames) in.fail("frames", "more than 2^24 nodes in all");
+    if (nodeCount * frameCount > maxNodeFrames) {
+      in.fail("frames", "more than " + std::to_string(maxNodeFrames) + " nodes in all frames");
+    }
     s.frames.push_back(uniformMeshNodes(u));
   } else {
     s.type = Mesh2dType::Delaunay;
@@ -348,7 +351,9 @@ Mesh2dSequence decodeMesh2d(std::span<const uint8_t> data, const std::string& so
     if (s.boundary < 3 || s.boundary > static_cast<int>(nodeCount)) {
       in.fail("boundary", "needs 3.." + std::to_string(nodeCount) + " boundary nodes");
     }
-    if (nodeCount * frameCount > kMaxNodeFrames) in.fail("frames", "more than 2^24 nodes in all");
+    if (nodeCount * frameCount > maxNodeFrames) {
+      in.fail("frames", "more than " + std::to_string(maxNodeFrames) + " nodes in all frames");
+    }
     Mesh2dNodes& nodes = s.frames.emplace_back(nodeCount, 2);
     ArithmeticDecoder coder(in);
     int64_t x = 0, y = 0;

@@ -49,7 +49,10 @@ std::vector<uint8_t> encodeMesh2d(const Mesh2dSequence& sequence, double step,
                                   Mesh2dCodingStats* stats = nullptr);
 
 // Decodes a .m2d stream, the triangles included. Throws mpeg4face::Error naming `source` and
-// the syntax element (with the frame) if the data is truncated, broken or out of range.
-Mesh2dSequence decodeMesh2d(std::span<const uint8_t> data, const std::string& source = {});
+// the syntax element (with the frame) if the data is truncated, broken or out of range, or if
+// its header declares more than `maxNodeFrames` nodes over all frames (a bound on memory and
+// time for streams from elsewhere).
+Mesh2dSequence decodeMesh2d(std::span<const uint8_t> data, const std::string& source = {},
+                            uint64_t maxNodeFrames = uint64_t{1} << 24);
 
 }  // namespace mpeg4face
