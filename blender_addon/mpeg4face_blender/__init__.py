@@ -41,10 +41,11 @@ def register() -> None:
                 operators_faces, operators_stream, panels, panels_faces, panels_stream,
                 properties,
             )
+            from . import import_mesh2d
 
             for module in (properties, operators, panels, operators_faces, operators_arkit,
                            panels_faces, export, operators_stream, import_stream,
-                           panels_stream, operators_check):
+                           panels_stream, operators_check, import_mesh2d):
                 module.register()
                 _registered.append(module)
     except Exception as error:  # noqa: BLE001 - e.g. a module too old for this add-on
