@@ -2,10 +2,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The pictures of docs/mesh2d.md, made with the CLI and matplotlib.
 
-Usage: scripts/mesh2d_pictures.py BUILD_DIR OUT_DIR
+Usage: PYTHONPATH=BUILD_DIR/python scripts/mesh2d_pictures.py BUILD_DIR OUT_DIR
 Draws a cartoon portrait (its feature points known by construction), designs meshes on it,
 makes it talk with an Xface FAP stream (tests/data/xface-fap/joy.fap) through `mpeg4face
-mesh2d portrait`, and draws contact sheets: the uniform topology codes, the designed meshes,
+mesh2d portrait`, and draws contact sheets: the uniform topology codes, the traversal order, the designed meshes,
 the portrait's frames with their mesh.
 """
 import json
@@ -19,6 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Ellipse  # noqa: E402
+
+import mpeg4face  # noqa: E402  (PYTHONPATH=BUILD_DIR/python)
 
 ROOT = Path(__file__).resolve().parent.parent
 W, H = 320, 400
@@ -93,6 +95,27 @@ def main() -> None:
             ax.axis("off")
         fig.tight_layout()
         fig.savefig(out / "mesh2d_uniform_codes.png", dpi=80)
+        plt.close(fig)
+        # The breadth-first traversal (section 3.3.2.1) on a small designed mesh.
+        cli(build, "design", str(portrait), "--delaunay", "24", "-o", str(tmp / "small.json"))
+        small = mpeg4face.read_mesh2d(tmp / "small.json")
+        traversal = mpeg4face.mesh2d_traversal(small)
+        nodes = small["frames"][0]
+        fig, ax = plt.subplots(figsize=(5, 6))
+        draw_mesh(ax, nodes, small["triangles"], color="0.6", lw=0.8)
+        for label, (l, m, n) in enumerate(traversal["vertices"]):
+            ax.plot(*zip(nodes[l], nodes[m]), color="tab:red", lw=1.5)  # base edge
+            centre = (nodes[l] + nodes[m] + nodes[n]) / 3
+            ax.text(*centre, str(label), ha="center", va="center", fontsize=8, color="tab:red")
+        for order, n in enumerate(traversal["node_order"]):
+            ax.text(*nodes[n], str(order), fontsize=8, ha="center", va="center",
+                    bbox=dict(boxstyle="square,pad=0.15", fc="white", ec="tab:blue"))
+        ax.set_title("triangle labels (red, base edges) and node order (boxes)", fontsize=9)
+        ax.set_aspect("equal")
+        ax.invert_yaxis()
+        ax.axis("off")
+        fig.tight_layout()
+        fig.savefig(out / "mesh2d_traversal.png", dpi=80)
         plt.close(fig)
         # Designed meshes and the portrait's.
         cli(build, "design", str(portrait), "--delaunay", "250", "-o", str(tmp / "d.json"))

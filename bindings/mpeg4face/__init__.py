@@ -142,6 +142,7 @@ __all__ = [
     "read_mesh2d",
     "write_mesh2d",
     "mesh2d_triangles",
+    "mesh2d_traversal",
     "encode_mesh2d",
     "decode_mesh2d",
     "design_mesh2d",

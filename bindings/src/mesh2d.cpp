@@ -49,7 +49,7 @@ py::dict toDict(const Mesh2dSequence& s) {
 
 // Through the JSON reader, so that Python input gets the same checks and messages.
 Mesh2dSequence fromDict(const py::dict& d) {
-  py::dict copy(d);
+  py::dict copy = d.attr("copy")();  // a new dict: the caller's keeps its arrays
   const py::module_ numpy = py::module_::import("numpy");
   for (const char* key : {"frames", "triangles"}) {
     if (copy.contains(key)) copy[key] = numpy.attr("asarray")(copy[key]).attr("tolist")();
@@ -77,6 +77,26 @@ void bindMesh2d(py::module_& m) {
         return py::object(d["triangles"]);
       },
       "sequence"_a, "The triangles the intra plane's geometry implies (CGAL for Delaunay).");
+  m.def(
+      "mesh2d_traversal",
+      [](const py::dict& sequence) {
+        Mesh2dSequence s = fromDict(sequence);
+        if (s.triangles.rows() == 0) s.triangles = meshTriangles(s);
+        const Mesh2dTraversal t = mesh2dTraversal(s.frames[0], s.triangles);
+        py::array_t<int32_t> vertices(
+            {static_cast<py::ssize_t>(t.vertices.size()), py::ssize_t{3}});
+        for (size_t i = 0; i < t.vertices.size(); ++i) {
+          for (size_t k = 0; k < 3; ++k) {
+            vertices.mutable_at(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(k)) =
+                t.vertices[i][k];
+          }
+        }
+        return py::dict("triangle"_a = t.triangle, "vertices"_a = vertices,
+                        "node_order"_a = t.nodeOrder);
+      },
+      "sequence"_a,
+      "The breadth-first traversal (section 3.3.2.1): per label the triangle's index and its "
+      "vertices (l, m, n) with <l m> the base edge, and the order node motion is coded in.");
   m.def(
       "encode_mesh2d",
       [](const py::dict& sequence, double step) {

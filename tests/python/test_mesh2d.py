@@ -34,6 +34,10 @@ def test_design_encode_decode_round_trip(image: Path) -> None:
     decoded = mpeg4face.decode_mesh2d(data)
     assert np.abs(decoded["frames"] - np.array(frames)).max() <= 0.25 + 1e-9
     assert np.array_equal(decoded["triangles"], mpeg4face.mesh2d_triangles(decoded))
+    traversal = mpeg4face.mesh2d_traversal(decoded)
+    assert isinstance(decoded["frames"], np.ndarray)  # the caller's dict is left as it was
+    assert sorted(traversal["triangle"]) == list(range(len(decoded["triangles"])))
+    assert sorted(traversal["node_order"]) == list(range(decoded["frames"].shape[1]))
 
 
 def test_bad_sequences_are_named(image: Path) -> None:
