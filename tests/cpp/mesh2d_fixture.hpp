@@ -52,8 +52,8 @@ inline Mesh2dSequence delaunayFixture(int count, const std::vector<Eigen::Vector
   std::uniform_real_distribution<double> jitter(-0.25, 0.25);
   // Shrink the grid until enough interior nodes fit.
   std::vector<Eigen::Vector2d> interior;
-  for (double spacing = (high - low).maxCoeff(); interior.size() < size_t(count - boundary);
-       spacing *= 0.9) {
+  for (double spacing = 1.5 * std::sqrt((high - low).prod() / count);
+       interior.size() < size_t(count - boundary); spacing *= 0.9) {
     interior.clear();
     for (double y = low.y() + spacing / 2; y < high.y(); y += spacing) {
       for (double x = low.x() + spacing / 2; x < high.x(); x += spacing) {
