@@ -17,6 +17,7 @@ packages=(
   view3dscene                               # tovrmlx3d, a third-party VRML97 reader for our .wrl
   flite                                     # speech synthesis with phone timings (mpeg4face speak)
   libcgal-dev                               # self-intersections of a face in motion (mpeg4face check)
+  libopencv-dev ffmpeg                      # 2D mesh object: images, tracking, video (mpeg4face mesh2d)
 )
 
 missing=()

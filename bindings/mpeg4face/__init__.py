@@ -140,4 +140,14 @@ __all__ = [
     "prepare_arkit_capture_face",
     "arkit_capture_to_faps",
     "faps_to_arkit",
+    # the 2D mesh object
+    "read_mesh2d",
+    "write_mesh2d",
+    "mesh2d_triangles",
+    "mesh2d_traversal",
+    "encode_mesh2d",
+    "decode_mesh2d",
+    "design_mesh2d",
+    "render_mesh2d",
+    "portrait_mesh2d",
 ]

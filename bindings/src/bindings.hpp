@@ -38,6 +38,7 @@ void bindCheck(py::module_& m);
 void bindArkit(py::module_& m);
 void bindCapture(py::module_& m);
 void bindNormals(py::module_& m);
+void bindMesh2d(py::module_& m);
 
 // UTF-8 to str; invalid bytes (from a file's text) become U+FFFD instead of raising.
 py::str toPy(std::string_view text);

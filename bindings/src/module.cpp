@@ -86,4 +86,5 @@ PYBIND11_MODULE(_core, m) {
   python::bindArkit(m);
   python::bindCapture(m);
   python::bindNormals(m);
+  python::bindMesh2d(m);
 }

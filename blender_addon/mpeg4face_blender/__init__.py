@@ -41,11 +41,11 @@ def register() -> None:
                 operators_faces, operators_stream, panels, panels_faces, panels_stream,
                 properties,
             )
-            from . import operators_rig
+            from . import import_mesh2d, operators_rig
 
             for module in (properties, operators, panels, operators_faces, operators_arkit,
                            panels_faces, export, operators_stream, import_stream,
-                           panels_stream, operators_check, operators_rig):
+                           panels_stream, operators_check, operators_rig, import_mesh2d):
                 module.register()
                 _registered.append(module)
     except Exception as error:  # noqa: BLE001 - e.g. a module too old for this add-on

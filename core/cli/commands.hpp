@@ -36,6 +36,7 @@ int runCheck(const std::vector<std::string>& args);
 int runArkit(const std::vector<std::string>& args);
 int runArkitToFap(const std::vector<std::string>& args);
 int runArkitFromFap(const std::vector<std::string>& args);
+int runMesh2d(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 

@@ -174,6 +174,27 @@ constexpr std::array kCommands{
             "  --face HEAD  a head with ARKit shapes (and FAP keys) (default: the ICT sample,\n"
             "               samples/build/ict_head.glb from samples/build.sh)\n",
             mpeg4face::cli::runArkit},
+    Command{"mesh2d", "the 2D mesh object: design, track, code, decode, render, talking portrait",
+            "mpeg4face mesh2d design IMAGE (--uniform COLSxROWS [--topology 0..3] | --delaunay N)\n"
+            "                        [--mask M.png] -o MESH.json\n"
+            "mpeg4face mesh2d track (VIDEO | FRAME_DIR) --mesh MESH.json -o SEQ.json\n"
+            "mpeg4face mesh2d encode SEQ.json -o OUT.m2d [--step S]\n"
+            "mpeg4face mesh2d decode IN.m2d -o SEQ.json\n"
+            "mpeg4face mesh2d render IMAGE SEQ.json -o OUT.mp4|DIR [--audio WAV] [--fps N]\n"
+            "mpeg4face mesh2d portrait IMAGE --feature-points FP.csv STREAM.fap|.fba\n"
+            "                          -o OUT.mp4|DIR [--audio WAV] [--step S]\n"
+            "  design: a uniform mesh of COLSxROWS cells (topology code of Fig. 20, default 0)\n"
+            "          or a Delaunay mesh of about N nodes on corner points (inside the mask's\n"
+            "          largest region with --mask)\n"
+            "  track: the mesh (on the first frame) followed by optical flow, no fold-overs\n"
+            "  encode: geometry and motion coded, motion in steps of S pixels (default 0.5);\n"
+            "          prints the bits, bits per node of the intra plane and per node and frame\n"
+            "  render: the image warped by each plane; PNG frames into DIR, or an MP4 (ffmpeg)\n"
+            "          with the audio muxed in; --fps N (default 25)\n"
+            "  portrait: a Delaunay mesh anchored on the feature points (CSV rows fp,x,y in\n"
+            "          pixels), moved by the stream's FAPs in FAPU, coded, decoded and rendered\n"
+            "  sequences are JSON (docs/mesh2d.md); progress on stderr\n",
+            mpeg4face::cli::runMesh2d},
 };
 
 void printHelp(std::FILE* out) {
