@@ -117,7 +117,8 @@ Points2 meanTriangleCentroid(const Points2& uv, std::span<const int> triangles) 
 // Upper and lower lip vertices coincide on a closed mouth, so a vertex is classified at a
 // point nudged a tenth of the way towards the mean centroid of its triangles: that side of
 // the contour is the lip it belongs to. A point in the mouth slit (an open mouth's, or one
-// nudged into it) belongs to the nearer inner contour. The lip feature points are the lip
+// nudged into it) belongs to the nearer inner contour, unless most of its neighbours say
+// otherwise. The lip feature points are the lip
 // the standard says, the corners neither (lipFeaturePoints): a corner's triangles belong
 // to the lip of their other corners.
 std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& frame,
@@ -138,6 +139,7 @@ std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& fra
   }
   const Eigen::Index n = p.uv.rows();
   std::vector<LipRegion> lips(static_cast<std::size_t>(n), LipRegion::Outside);
+  std::vector<bool> inSlit(static_cast<std::size_t>(n), false);
   for (Eigen::Index r = 0; r < n; ++r) {
     const Eigen::Vector2d q = p.uv.row(r) + 0.1 * (centroid.row(r) - p.uv.row(r));
     if ((q.array() < lo.array()).any() || (q.array() > hi.array()).any()) continue;
@@ -150,13 +152,47 @@ std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& fra
       const double middle =
           0.5 * (contourHeight(upperContour, q.x()) + contourHeight(lowerContour, q.x()));
       lip = q.y() >= middle ? LipRegion::Upper : LipRegion::Lower;
+      inSlit[static_cast<std::size_t>(r)] = true;
     }
   }
   for (const auto& [id, lip] : lipFeaturePoints()) {
     const auto it = model.featurePoints.find(std::string(id));
     if (it == model.featurePoints.end() || it->second.mesh < 0) continue;
     const int first = surface.firstRow[static_cast<std::size_t>(it->second.mesh)];
-    if (first >= 0) lips[static_cast<std::size_t>(first + it->second.vertex)] = lip;
+    if (first < 0) continue;
+    const auto row = static_cast<std::size_t>(first + it->second.vertex);
+    lips[row] = lip;
+    inSlit[row] = false;
+  }
+  // Behind the lips (a mouth bag seen through the slit) the height says little: a vertex of
+  // the lower lip's inner side may project above the middle. There the surface decides: a
+  // slit vertex takes the lip most of its neighbours belong to, until none changes.
+  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(n));
+  for (std::size_t t = 0; t + 2 < p.triangles.size(); t += 3) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int a = p.triangles[t + k];
+      if (!inSlit[static_cast<std::size_t>(a)]) continue;
+      for (std::size_t j = 1; j < 3; ++j) {
+        neighbours[static_cast<std::size_t>(a)].push_back(p.triangles[t + (k + j) % 3]);
+      }
+    }
+  }
+  for (bool changed = true; changed;) {  // converges: each change adds agreeing neighbours
+    changed = false;
+    for (Eigen::Index r = 0; r < n; ++r) {
+      if (!inSlit[static_cast<std::size_t>(r)]) continue;
+      int upperVotes = 0, lowerVotes = 0;
+      for (int v : neighbours[static_cast<std::size_t>(r)]) {
+        upperVotes += lips[static_cast<std::size_t>(v)] == LipRegion::Upper;
+        lowerVotes += lips[static_cast<std::size_t>(v)] == LipRegion::Lower;
+      }
+      LipRegion& lip = lips[static_cast<std::size_t>(r)];
+      const LipRegion vote = upperVotes > lowerVotes   ? LipRegion::Upper
+                             : lowerVotes > upperVotes ? LipRegion::Lower
+                                                       : lip;
+      changed = changed || vote != lip;
+      lip = vote;
+    }
   }
   return lips;
 }

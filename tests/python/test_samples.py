@@ -178,6 +178,35 @@ def test_the_jaw_lowers_the_teeth_and_tongue_with_the_chin(head):
     np.testing.assert_allclose(state["translation"][upper], neutral["translation"][upper])
 
 
+def test_no_lip_key_tears_a_vertex_from_its_neighbours(head):
+    """The mouth bag behind MakeHuman's lips is cloned with the lip it belongs to: no vertex
+    of a viseme or lip key moves apart from its neighbours' mean by more than 3/4 of the
+    key's peak (a vertex of the lower lip's inner side once rose with the upper lip, a spike
+    up from the lower lip on every open mouth)."""
+    skin = head.meshes[head.find_mesh("skin")]
+    index = np.asarray(skin.coord_index)
+    ends = np.flatnonzero(index < 0)
+    edges = np.unique(np.sort(np.concatenate([
+        np.stack([face, np.roll(face, -1)], axis=1)
+        for face in np.split(index, ends + 1)[:-1] for face in [face[:-1]]]), axis=1), axis=0)
+    degree = np.bincount(edges.ravel(), minlength=skin.vertex_count)[:, None]
+    lip_faps = {3, 16, 17, *range(4, 14), *range(51, 61)}
+    checked = 0
+    for target in skin.morph_targets:
+        parsed = mpeg4face.parse_shape_key_name(target.name)
+        if not (target.name.startswith("viseme") or parsed and parsed["fap"] in lip_faps):
+            continue
+        d = np.asarray(target.displacements)
+        mean = np.zeros_like(d)
+        np.add.at(mean, edges[:, 0], d[edges[:, 1]])
+        np.add.at(mean, edges[:, 1], d[edges[:, 0]])
+        apart = np.linalg.norm(d - mean / np.maximum(degree, 1), axis=1)
+        assert apart.max() <= 0.75 * np.linalg.norm(d, axis=1).max(), \
+            (target.name, int(apart.argmax()))
+        checked += 1
+    assert checked >= 40
+
+
 def test_visemes_and_expressions_make_tables(head):
     tables = mpeg4face.generate_face(head)["face"].tables
     selects = {(t["fap"], t["select"]) for t in tables}
