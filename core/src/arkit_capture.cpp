@@ -87,6 +87,12 @@ constexpr std::array<AngleFap, 7> kAngleFaps{{{23, kLeftEyeYaw, -1},
                                               {49, kHeadYaw, -1},
                                               {50, kHeadRoll, 1}}};
 
+// The Live Link weight channel of JawOpen.
+int jawOpenChannel() {
+  const auto names = liveLinkChannelNames();
+  return static_cast<int>(std::find(names.begin(), names.end(), "JawOpen") - names.begin());
+}
+
 int roundedFap(double value) {
   return static_cast<int>(std::clamp(std::round(value), -1.0e8, 1.0e8));
 }
@@ -364,6 +370,14 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
   out.fapGram.diagonal().array() += 1e-6 * out.fapGram.diagonal().mean();
   out.fapRhs = out.fapMotion.transpose() * out.shapeMotion;
   out.angleRhs = out.fapMotion.transpose() * angleMotion;
+  const int jaw = jawOpenChannel();
+  for (std::size_t c = 0; c < out.columnFap.size(); ++c) {
+    const auto col = static_cast<Eigen::Index>(c);
+    if (out.columnFap[c] != 3 || out.columnSign[c] < 0 || !out.hasShape[static_cast<std::size_t>(jaw)])
+      continue;
+    out.jawColumn = static_cast<int>(c);
+    out.jawPerWeight = std::max(0.0, out.fapRhs(col, jaw) / out.fapMotion.col(col).squaredNorm());
+  }
   // FAP -> ARKit compares motion where the FAPs have any: everywhere with tables, at the
   // feature points without.
   Eigen::MatrixXd compared = out.shapeMotion;
@@ -427,6 +441,11 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
       if (v > 0) b -= v * face.angleRhs.col(static_cast<Eigen::Index>(c));
     }
     std::fill(locked.begin(), locked.end(), false);
+    const double jaw = face.jawPerWeight * weights[jawOpenChannel()];
+    if (face.jawColumn >= 0) {
+      b -= jaw * face.fapGram.col(face.jawColumn);
+      locked[static_cast<std::size_t>(face.jawColumn)] = true;
+    }
     boundedLeastSquares(face.fapGram, b, lower, upper, x, locked);
     // One side per FAP: where both sides came out positive the weaker is held at 0 (all
     // such FAPs at once), and the rest solved again.
@@ -440,6 +459,8 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
       }
       if (again) boundedLeastSquares(face.fapGram, b, lower, upper, x, locked);
     }
+
+    if (face.jawColumn >= 0) x[face.jawColumn] = jaw;
 
     FapFrame& frame = stream.frames[static_cast<std::size_t>(f)];
     frame.number = f;

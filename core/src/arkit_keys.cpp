@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // A head's FAP, viseme and expression keys made from its ARKit shapes. docs/arkit.md.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
+#include <string_view>
 
 #include "mpeg4face/arkit.hpp"
 #include "mpeg4face/error.hpp"
@@ -83,52 +86,86 @@ TransformChannel rotationChannel(int transform, const Eigen::Quaterniond& q) {
   return poseChannel(transform, TransformChannel::Path::Rotation, {q.x(), q.y(), q.z(), q.w()});
 }
 
-// The FAPs of an area of the skin that several FAPs share (the lips, chin, cheeks, brows and
-// nose): ARKit shapes move a whole lip or brow, so the key of FAP 10 (2.8) made from them
-// moves the whole lower lip, and a viseme that sends 5, 10, 11, 52, 57 and 58 together
-// would lower it six times over. Their keys are localised instead (docs/arkit.md).
-bool isAreaFap(int fap) {
-  return (fap >= 4 && fap <= 13) || (fap >= 16 && fap <= 18) || (fap >= 31 && fap <= 42) ||
-         (fap >= 51 && fap <= 64);
+// FAPs sent together to move one part of the face: a lip (inner and outer contour), a
+// mouth corner, a brow, both lips forwards, both cheeks or nose wings. ARKit shapes move a
+// whole lip or brow, so the key of FAP 10 (2.8) made from them moves the whole lower lip,
+// and a viseme or stream that sends 5, 10, 11, 52, 57 and 58 together would lower it six
+// times over. Their keys are shared out among the group's points instead (docs/arkit.md).
+// FAPs sent together to move one part of the face: a lip (inner and outer contour), a
+// mouth corner, both lips forwards, a brow, the brows squeezed, both cheeks or nose wings.
+// ARKit shapes move a whole lip or brow, so the key of FAP 10 (2.8) made from them moves
+// the whole lower lip, and a stream that sends 5, 10, 11, 52, 57 and 58 together (as the
+// Xface streams do) would lower it six times over. docs/arkit.md, "Localised keys".
+constexpr std::array<std::array<int, 6>, 11> kSiblingFaps{{
+    {5, 10, 11, 52, 57, 58},
+    {4, 8, 9, 51, 55, 56},
+    {6, 12, 53, 59},
+    {7, 13, 54, 60},
+    {16, 17},
+    {31, 33, 35},
+    {32, 34, 36},
+    {37, 38},
+    {39, 40},
+    {41, 42},
+    {61, 62},
+}};
+
+std::span<const int> siblingFaps(int fap) {
+  for (const auto& group : kSiblingFaps) {
+    const auto end = std::find(group.begin(), group.end(), 0);
+    if (std::find(group.begin(), end, fap) != end) return {group.begin(), end};
+  }
+  return {};
 }
 
-// Shepard's partition of unity over the area FAPs' feature points on a mesh: a point's share
-// at each vertex, 1 at its own vertex and 0 at every other such point's,
-// inverse-square distance weighted between. The shares of all the mesh's points add to 1,
-// so the localised keys of neighbouring FAPs sent at one value move the area as the shapes
-// do, and each key leaves every other feature point where it was.
+// The FAPs of the areas several FAPs share (the lips, chin, cheeks, brows and nose).
+// The powers of the partitions: inverse-square over the area gives the viseme and expression
+// keys each FAP's own motion; among siblings the much gentler 1/sqrt(distance) keeps the keys
+// written broad enough for the capture solver to fit ARKit's shapes with (docs/arkit.md).
+constexpr double kAreaPower = 2.0;
+constexpr double kSiblingPower = 0.5;
+
+std::vector<int> areaFaps() {
+  std::vector<int> faps;
+  for (int f = 4; f <= 64; ++f) {
+    if (f <= 13 || (f >= 16 && f <= 18) || (f >= 31 && f <= 42) || f >= 51) faps.push_back(f);
+  }
+  return faps;
+}
+
+// Shepard's partition of unity over some FAPs' feature points on a mesh: a point's share at
+// each vertex, 1 at its own vertex and 0 at every other of the points, inverse-distance
+// weighted between (1/d^power). The shares add to 1 everywhere, so the FAPs' keys sent at
+// one value move the area as the shapes do, and each key alone moves its own point and
+// leaves the others where they were.
 class FeaturePointShares {
  public:
-  FeaturePointShares(const FaceModel& head, int mesh) : mesh_(mesh) {
-    const IndexedFaceSet& m = head.meshes[static_cast<std::size_t>(mesh)];
-    std::set<std::string, std::less<>> areaPoints;
-    for (const FapInfo& fap : fapTable()) {
-      if (isAreaFap(fap.number)) areaPoints.emplace(fap.featurePoint);
-    }
-    for (const auto& [id, binding] : head.featurePoints) {
-      if (!areaPoints.contains(id) || binding.mesh != mesh || binding.vertex < 0 ||
-          binding.vertex >= m.vertexCount()) {
+  FeaturePointShares(const FaceModel& head, int mesh, std::span<const int> faps, double power)
+      : mesh_(head.meshes[static_cast<std::size_t>(mesh)]), power_(power) {
+    for (int fap : faps) {
+      const std::string id(fapInfo(fap).featurePoint);
+      const auto it = head.featurePoints.find(id);
+      if (it == head.featurePoints.end() || it->second.mesh != mesh || it->second.vertex < 0 ||
+          it->second.vertex >= mesh_.vertexCount() || index_.contains(id)) {
         continue;
       }
-      index_[id] = static_cast<int>(points_.size());
-      points_.push_back(m.coord.row(binding.vertex));
+      index_[id] = points_.size();
+      points_.push_back(mesh_.coord.row(it->second.vertex));
     }
-    total_.resize(m.vertexCount());
-    for (int v = 0; v < m.vertexCount(); ++v) {
+    total_.resize(static_cast<std::size_t>(mesh_.vertexCount()));
+    for (int v = 0; v < mesh_.vertexCount(); ++v) {
       double sum = 0;
-      for (std::size_t p = 0; p < points_.size(); ++p) sum += weight(m.coord.row(v), p);
+      for (std::size_t p = 0; p < points_.size(); ++p) sum += weight(v, p);
       total_[static_cast<std::size_t>(v)] = sum;
     }
   }
-  int mesh() const { return mesh_; }
-  // Multiplies each row of `d` (this mesh's displacements) by the point's share.
-  void localise(const std::string& id, const IndexedFaceSet& m, Points3& d) const {
-    const auto it = index_.find(id);
+  // Multiplies each row of `d` (this mesh's displacements) by FAP `fap`'s share.
+  void localise(int fap, Points3& d) const {
+    const auto it = index_.find(std::string(fapInfo(fap).featurePoint));
     if (it == index_.end()) return;
-    const std::size_t p = static_cast<std::size_t>(it->second);
-    for (int v = 0; v < m.vertexCount(); ++v) {
+    for (int v = 0; v < mesh_.vertexCount(); ++v) {
       if (d.row(v).isZero()) continue;
-      const double w = weight(m.coord.row(v), p);
+      const double w = weight(v, it->second);
       const double total = total_[static_cast<std::size_t>(v)];
       // At a feature point's own vertex the weights are infinite: all of it, or none.
       d.row(v) *= std::isinf(w) ? 1.0 : std::isinf(total) ? 0.0 : w / total;
@@ -136,12 +173,13 @@ class FeaturePointShares {
   }
 
  private:
-  double weight(const Eigen::RowVector3d& x, std::size_t p) const {
-    const double d2 = (x - points_[p]).squaredNorm();
-    return d2 == 0 ? std::numeric_limits<double>::infinity() : 1.0 / d2;
+  double weight(int v, std::size_t p) const {
+    const double d2 = (mesh_.coord.row(v) - points_[p]).squaredNorm();
+    return d2 == 0 ? std::numeric_limits<double>::infinity() : std::pow(d2, -power_ / 2);
   }
-  int mesh_;
-  std::map<std::string, int> index_;
+  const IndexedFaceSet& mesh_;
+  double power_;
+  std::map<std::string, std::size_t, std::less<>> index_;
   std::vector<Eigen::RowVector3d> points_;
   std::vector<double> total_;
 };
@@ -240,9 +278,10 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
   std::vector<std::vector<MorphTarget>> added(out.head.meshes.size());
   std::vector<std::vector<MorphTarget>> localisedAdded(out.head.meshes.size());
   std::vector<MorphWeightAnimation> poses;
-  std::optional<FeaturePointShares> shares;  // of the mesh the last area FAP's point is on
-  // The viseme and expression keys are evaluated through the keys localised (addHighLevelKeys).
+  // The viseme and expression keys are evaluated through the keys localised over the area
+  // (addHighLevelKeys).
   const bool highLevel = (options.visemes || options.expressions) && !out.mapping.keys.empty();
+  const std::vector<int> area = areaFaps();
   for (const ArkitFapKey& key : out.mapping.keys) {
     const std::string name =
         formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)});
@@ -261,25 +300,18 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
         it->second += weight * mesh.morphTargets[static_cast<std::size_t>(t.target)].displacements;
       }
     }
-    std::map<int, Points3> area;  // the same key localised, for the viseme and expression keys
-    if (highLevel && isAreaFap(key.fap)) {
-      const std::string point(fapInfo(key.fap).featurePoint);
-      const auto binding = out.head.featurePoints.find(point);
-      const auto found = binding == out.head.featurePoints.end()
-                             ? meshes.end()
-                             : meshes.find(binding->second.mesh);
-      if (found != meshes.end()) {
-        if (!shares || shares->mesh() != found->first) shares.emplace(out.head, found->first);
-        Points3 d = found->second;
-        shares->localise(point, out.head.meshes[static_cast<std::size_t>(found->first)], d);
-        area.emplace(found->first, std::move(d));
-      }
-    }
+    // On the mesh of the key's point: the key written shared among its sibling FAPs, and
+    // that further over the area for the viseme and expression keys.
+    const auto binding = out.head.featurePoints.find(std::string(fapInfo(key.fap).featurePoint));
+    const int pointMesh = binding == out.head.featurePoints.end() ? -1 : binding->second.mesh;
     for (auto& [m, d] : meshes) {
+      if (m == pointMesh) {
+        FeaturePointShares(out.head, m, siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
+      }
       if (highLevel) {
-        const auto it = area.find(m);
-        localisedAdded[static_cast<std::size_t>(m)].push_back(
-            {name, it == area.end() ? d : std::move(it->second)});
+        Points3 local = d;
+        if (m == pointMesh) FeaturePointShares(out.head, m, area, kAreaPower).localise(key.fap, local);
+        localisedAdded[static_cast<std::size_t>(m)].push_back({name, std::move(local)});
       }
       added[static_cast<std::size_t>(m)].push_back({name, std::move(d)});
     }

@@ -449,18 +449,24 @@ def test_sample_sentence_parts_the_lips(checked, streams, name):
     assert shown >= 10
 
 
-@pytest.mark.xfail(strict=True, reason="the ICT head's lower-lip keys add up under the "
-                   "streams' jaw and lip FAPs (A: parts the lips 2.7 MNS0): stretched edges, "
-                   "folds and new self-intersections in most frames (docs/speech.md)")
+@pytest.mark.xfail(strict=True, reason="the mouth corners: the lip, corner and jaw keys add "
+                   "up there under the Xface streams' jaw and lip FAPs (edges p99 up to 2.6 "
+                   "in some frames, skin self-intersections in MakeHuman's disgust and ICT's "
+                   "fear: docs/speech.md)")
 @pytest.mark.parametrize("name", ["makehuman", "ict"])
 def test_sample_heads_move_well_in_every_frame(checked, streams, name):
     """Every frame of every stream through the head's tables: skin edges at most twice as
     long or half as long (p99), the inner lip corners inside the outer ones (2% of MW0), no
-    new self-intersection beyond lips and lids touching."""
+    new self-intersection of the skin beyond lips and lids touching (the ICT head's gums and
+    tongue, a mesh of their own that already intersects itself in the neutral, are not
+    skin)."""
     frames = checked[name]["frames"]
     assert len(frames) == sum(len(s) for s in streams)
+    def skin_intersections(frame: dict) -> int:
+        return sum(len(m["new_intersections"]) for m in frame["meshes"] if m["mesh"] == "skin")
+
     bad = [(f["stream"], f["frame"], f["edge_ratio_p99"], f["lip_corner_outside_mw0"],
-            f["new_self_intersections"]) for f in frames
+            skin_intersections(f)) for f in frames
            if f["edge_ratio_p99"] > 2.0 or (f["lip_corner_outside_mw0"] or 0) > 0.02
-           or f["new_self_intersections"] > 0]
+           or skin_intersections(f) > 0]
     assert not bad, f"{len(bad)} of {len(frames)} frames, the first {bad[:5]}"

@@ -48,6 +48,12 @@ struct ArkitCaptureFace {
   Eigen::MatrixXd angleRhs;
   std::vector<int> angleColumnFap;
   std::vector<int> angleColumnSign;
+  // FAP 3 follows JawOpen as the angle FAPs follow their channels: its column (+ side), -1
+  // without a jaw table or shape, and its value per unit weight (the FAP 3 that best
+  // reproduces jawOpen's motion alone). The others fit what the jaw leaves (a mouth held
+  // closed while the jaw opens is the lips' doing, not a smaller jaw).
+  int jawColumn = -1;
+  double jawPerWeight = 0;
   // FAP -> ARKit: the normal equations of the ARKit shapes over the area.
   Eigen::MatrixXd shapeGram;
   std::vector<std::string> warnings;  // e.g. the ARKit shapes the face lacks, once
