@@ -182,7 +182,10 @@ constexpr std::array kCommands{
             "mpeg4face mesh2d decode IN.m2d -o SEQ.json\n"
             "mpeg4face mesh2d render IMAGE SEQ.json -o OUT.mp4|DIR [--audio WAV] [--fps N]\n"
             "mpeg4face mesh2d portrait IMAGE --feature-points FP.csv STREAM.fap|.fba\n"
-            "                          -o OUT.mp4|DIR [--audio WAV] [--step S]\n"
+            "                          -o OUT.mp4|DIR [--audio WAV] [--step S] [--m2d OUT.m2d]\n"
+            "mpeg4face mesh2d portrait IMAGE --feature-points FP.csv --tracks TRACKS.csv\n"
+            "                          -o OUT.mp4|DIR [--audio WAV] [--step S] [--m2d OUT.m2d]\n"
+            "                          [--fps N]\n"
             "  design: a uniform mesh of COLSxROWS cells (topology code of Fig. 20, default 0)\n"
             "          or a Delaunay mesh of about N nodes on corner points (inside the mask's\n"
             "          largest region with --mask)\n"
@@ -192,7 +195,9 @@ constexpr std::array kCommands{
             "  render: the image warped by each plane; PNG frames into DIR, or an MP4 (ffmpeg)\n"
             "          with the audio muxed in; --fps N (default 25)\n"
             "  portrait: a Delaunay mesh anchored on the feature points (CSV rows fp,x,y in\n"
-            "          pixels), moved by the stream's FAPs in FAPU, coded, decoded and rendered\n"
+            "          pixels), moved by the stream's FAPs in FAPU, or along --tracks (rows\n"
+            "          frame,fp,x,y: a 3D face's motion projected), coded (--m2d keeps the\n"
+            "          bitstream), decoded and rendered\n"
             "  sequences are JSON (docs/mesh2d.md); progress on stderr\n",
             mpeg4face::cli::runMesh2d},
 };
