@@ -133,7 +133,7 @@ demo: everything is in $out/
   preview/preview.mp4       the frames and the sound as a video (H.264 + AAC)
   portrait/portrait.mp4     a still picture of the head saying the sentence as a 2D mesh
                             animation, with the sound; portrait/contact_sheet.png: 12 frames
-  portrait/portrait.m2d     its mesh motion coded: $(grep -o 'coded in [0-9]* bits' "$portrait/coding.txt")
+  portrait/portrait.m2d     the mesh and its motion coded: $(grep -o '[0-9]* bits' "$portrait/coding.txt")
                             (portrait.json decoded; portrait.png, feature_points.csv and
                             tracks.csv: the picture and its feature points, still and moving)
   capture.fap               a real iPhone capture (tests/data/livelink-face) as FAPs, made on
