@@ -2,6 +2,7 @@
 // `mpeg4face mesh2d`: the 2D mesh object (docs/mesh2d.md): design a mesh on an image, track it
 // through a video, code it as .m2d and back, render the warped texture, a talking portrait.
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,17 @@ void progress(size_t frame, size_t count) {
     std::fprintf(stderr, "\rframe %zu/%zu", frame + 1, count);
     if (frame + 1 == count) std::fprintf(stderr, "\n");
   }
+}
+
+// The texture the intra plane lies on: an image, or the first frame of a video or of a folder
+// of frames (a tracked sequence's intra plane is its first frame).
+Image readTexture(const std::string& path) {
+  const std::string ext = extensionOf(path);
+  if (std::filesystem::is_directory(path) || ext == ".mp4" || ext == ".avi" || ext == ".mov" ||
+      ext == ".mkv" || ext == ".webm" || ext == ".m4v") {
+    return readFrames(path, 1).front();
+  }
+  return readImage(path);
 }
 
 void render(const Image& image, const Mesh2dSequence& s, const Args& a, double fps) {
@@ -168,8 +180,8 @@ int runMesh2d(const std::vector<std::string>& args) {
     return 0;
   }
   if (sub == "render") {
-    needFiles(a, 2, "IMAGE and SEQ.json");
-    const Image image = readImage(a.files[0]);
+    needFiles(a, 2, "IMAGE (or VIDEO or FRAME_DIR) and SEQ.json");
+    const Image image = readTexture(a.files[0]);
     render(image, readMesh2dJson(a.files[1]), a, 25);
     return 0;
   }

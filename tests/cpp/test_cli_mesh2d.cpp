@@ -56,6 +56,12 @@ TEST(CliMesh2d, DesignEncodeDecodeRender) {
              " -o " + (dir / "tracked.json").string());
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(readMesh2dJson(dir / "tracked.json").frames.size(), 5u);
+  // The frames' folder as the texture: its first frame, the intra plane's.
+  r = runCli("mesh2d render " + (dir / "frames").string() + " " + (dir / "d.json").string() +
+             " -o " + (dir / "again").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(readImage(dir / "again" / "frame_00003.png").pixels,
+            readImage(dir / "frames" / "frame_00003.png").pixels);
 }
 
 TEST(CliMesh2d, PortraitToMp4WithAudio) {
