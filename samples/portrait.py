@@ -119,6 +119,8 @@ def main() -> None:
     args = parser.parse_args(ARGS)
     if (args.stream is None) != (args.tracks is None):
         raise SystemExit("portrait: --stream and --tracks go together")
+    if args.stream is not None and not args.stream.is_file():
+        raise SystemExit(f"portrait: {args.stream}: no such file")
     head = blender_session.head_object()
     scene = bpy.context.scene
     scene.render.use_stamp = False
