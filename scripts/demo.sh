@@ -9,10 +9,12 @@
 #      encoded in predictive and DCT mode (bits/s and PSNR printed) and decoded
 #   4. the decoded stream previewed in Blender through the add-on: every frame rendered, a
 #      contact sheet and a video with the sound
-#   5. a real iPhone capture (Live Link Face's ARKit weights) converted to a FAP stream on the
+#   5. a talking portrait: a still picture of the head says the sentence as an MPEG-4 2D mesh
+#      animation (the head's feature points played and projected, coded as .m2d, warped)
+#   6. a real iPhone capture (Live Link Face's ARKit weights) converted to a FAP stream on the
 #      ICT head, encoded (bits/s and PSNR printed), decoded and played on the MakeHuman head;
 #      a few of its frames side by side on both heads (contact sheet)
-#   6. a summary of what was made and where.
+#   7. a summary of what was made and where.
 # Everything goes to MPEG4FACE_DEMO_OUT (default out/demo/); running it again redoes it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -67,6 +69,29 @@ if ! blender -b samples/build/makehuman_head.blend --python-exit-code 1 \
   exit 1
 fi
 
+step "a talking portrait: a picture of the head says the sentence as a 2D mesh animation"
+# Blender renders the neutral head and projects its feature points in every frame of the
+# sentence played on it; the CLI meshes the picture, codes the motion (.m2d) and warps it.
+portrait=$out/portrait
+mkdir -p "$portrait"
+if ! blender -b samples/build/makehuman_head.blend --python-exit-code 1 \
+    --python samples/portrait.py -- "$portrait/portrait.png" "$portrait/feature_points.csv" \
+    --stream "$out/hello.fap" --tracks "$portrait/tracks.csv" >"$portrait/portrait.log" 2>&1; then
+  tail -n 40 "$portrait/portrait.log"
+  exit 1
+fi
+grep '^portrait:' "$portrait/portrait.log"
+"$cli" mesh2d portrait "$portrait/portrait.png" --feature-points "$portrait/feature_points.csv" \
+  --tracks "$portrait/tracks.csv" --m2d "$portrait/portrait.m2d" -o "$portrait/portrait.mp4" \
+  --audio "$out/hello.wav" 2>"$portrait/coding.txt"
+grep -o '^portrait: .* bits' "$portrait/coding.txt"
+"$cli" mesh2d decode "$portrait/portrait.m2d" -o "$portrait/portrait.json"
+# 12 frames across the sentence, the lower face (pixels 110..430 x 230..510 of 540 x 540).
+ffmpeg -y -loglevel error -i "$portrait/portrait.mp4" \
+  -vf "select='not(mod(n\,16))',crop=320:280:110:230,tile=4x3:padding=4:color=white" \
+  -frames:v 1 -fps_mode vfr "$portrait/contact_sheet.part.png"
+mv "$portrait/contact_sheet.part.png" "$portrait/contact_sheet.png"
+
 step "a real capture: Live Link Face's ARKit weights to FAPs, coded, on both heads"
 capture=tests/data/livelink-face/MySlate_3_Jason_Millers_iPhone.csv
 "$cli" arkit to-fap "$capture" --face samples/build/ict_head.glb --fps 25 \
@@ -106,6 +131,11 @@ demo: everything is in $out/
   preview/frames/           every frame rendered in Blender ($(ls "$out/preview/frames" | wc -l) PNGs)
   preview/contact_sheet.png 12 frames across the sentence
   preview/preview.mp4       the frames and the sound as a video (H.264 + AAC)
+  portrait/portrait.mp4     a still picture of the head saying the sentence as a 2D mesh
+                            animation, with the sound; portrait/contact_sheet.png: 12 frames
+  portrait/portrait.m2d     the mesh and its motion coded: $(grep -o '[0-9]* bits' "$portrait/coding.txt")
+                            (portrait.json decoded; portrait.png, feature_points.csv and
+                            tracks.csv: the picture and its feature points, still and moving)
   capture.fap               a real iPhone capture (tests/data/livelink-face) as FAPs, made on
                             the ICT head: $(converted)
   capture_dct.fba           coded in DCT mode, fap_quant $fap_quant: $(coded capture)

@@ -2,11 +2,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The pictures of docs/mesh2d.md, made with the CLI and matplotlib.
 
-Usage: PYTHONPATH=BUILD_DIR/python scripts/mesh2d_pictures.py BUILD_DIR OUT_DIR
+Usage: PYTHONPATH=BUILD_DIR/python scripts/mesh2d_pictures.py BUILD_DIR OUT_DIR [DEMO_OUT]
 Draws a cartoon portrait (its feature points known by construction), designs meshes on it,
 makes it talk with an Xface FAP stream (tests/data/xface-fap/joy.fap) through `mpeg4face
 mesh2d portrait`, and draws contact sheets: the uniform topology codes, the traversal order, the designed meshes,
-the portrait's frames with their mesh.
+the portrait's frames with their mesh; the mesh built from the text of the paper's Fig. 24
+(test_mesh2d's TraversalMatchesTheTextOfFig24). With DEMO_OUT (scripts/demo.sh's output), the
+demo's MakeHuman portrait: its mesh, and frames of the sentence.
 """
 import json
 import subprocess
@@ -152,6 +154,83 @@ def main() -> None:
         fig.tight_layout()
         fig.savefig(out / "mesh2d_portrait_mouth.png", dpi=80)
         plt.close(fig)
+    draw_fig24_text(out / "mesh2d_fig24_text.png")
+    if len(sys.argv) > 3:
+        draw_demo_portrait(Path(sys.argv[3]) / "portrait", out / "mesh2d_makehuman_portrait.png")
+
+
+def draw_fig24_text(path: Path) -> None:
+    """test_mesh2d's mesh for the text of Fig. 24, after five labels: triangle 3 current."""
+    names = "ABEJHIGCDF"
+    nodes = [(0, 0), (4, 0), (6, 3), (7, 6), (4, 7), (1.5, 7.5), (0, 7), (3, 2), (2, 4), (0.5, 5)]
+    mesh = {"width": 10, "height": 10, "mesh": "delaunay", "boundary": 7, "frames": [nodes]}
+    traversal = mpeg4face.mesh2d_traversal(mesh)
+    triangles = mpeg4face.mesh2d_triangles(mesh)
+    fig, ax = plt.subplots(figsize=(5, 5))
+    draw_mesh(ax, nodes, triangles, color="0.6", lw=0.8)
+    for label, (l, m, n) in enumerate(traversal["vertices"][:7]):
+        centre = [sum(nodes[i][k] for i in (l, m, n)) / 3 for k in (0, 1)]
+        ax.text(*centre, str(label), ha="center", va="center", fontsize=11,
+                color="tab:red" if label < 5 else "tab:orange")
+    l, m, n = traversal["vertices"][3]
+    for (a, b), name in (((l, m), "b"), ((l, n), "r"), ((m, n), "l")):
+        ax.plot(*zip(nodes[a], nodes[b]), color="tab:red", lw=2)
+        ax.text((nodes[a][0] + nodes[b][0]) / 2 + 0.15, (nodes[a][1] + nodes[b][1]) / 2, name,
+                fontsize=11, color="tab:red", fontweight="bold")
+    for order, i in enumerate(traversal["node_order"][:6]):
+        ax.text(*nodes[i], f"{names[i]} {order}", fontsize=9, ha="center", va="center",
+                bbox=dict(boxstyle="square,pad=0.15", fc="white", ec="tab:blue"))
+    for i in traversal["node_order"][6:]:
+        ax.text(*nodes[i], names[i], fontsize=9, ha="center", va="center", color="0.4")
+    ax.set_title("built from the text of Fig. 24 (not its drawing): labels 0-4 set,\n"
+                 "3 current (b, r, l), 5 and 6 next (orange); nodes coded so far boxed",
+                 fontsize=9)
+    ax.set_aspect("equal")
+    ax.invert_yaxis()
+    ax.axis("off")
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def draw_demo_portrait(folder: Path, path: Path) -> None:
+    """The demo's portrait: its mesh and feature points, then frames of the sentence."""
+    image = plt.imread(folder / "portrait.png")
+    sequence = mpeg4face.read_mesh2d(folder / "portrait.json")
+    frames = sequence["frames"]
+    # The widest-open mouth, then a few frames across the sentence.
+    opening = (frames - frames[0])[:, :, 1].max(axis=1)
+    picks = [int(opening.argmax()), 30, 75, 140]
+    crop = (slice(215, 515), slice(120, 420))
+    with tempfile.TemporaryDirectory() as tmp_name:
+        rendered = Path(tmp_name)
+        mpeg4face.render_mesh2d(folder / "portrait.png",
+                                dict(sequence, frames=frames[[0, *picks]]), rendered)
+        shots = [plt.imread(f) for f in sorted(rendered.glob("frame_*.png"))]
+    fig, axes = plt.subplots(1, 2 + len(picks), figsize=(2.6 * (2 + len(picks)), 2.8))
+    points = [line.split(",") for line in (folder / "feature_points.csv").read_text().split()[1:]]
+    axes[0].imshow(image[crop])
+    shift = [[x - crop[1].start, y - crop[0].start] for x, y in frames[0]]
+    draw_mesh(axes[0], shift, sequence["triangles"], color="yellow", lw=0.4)
+    axes[0].scatter([float(x) - crop[1].start for _, x, _ in points],
+                    [float(y) - crop[0].start for _, _, y in points], s=5, c="red", zorder=3)
+    axes[0].set_xlim(0, 300)
+    axes[0].set_ylim(300, 0)
+    axes[0].set_title("mesh, feature points", fontsize=9)
+    axes[1].imshow(shots[1][crop])
+    moved = [[x - crop[1].start, y - crop[0].start] for x, y in frames[picks[0]]]
+    draw_mesh(axes[1], moved, sequence["triangles"], color="yellow", lw=0.4)
+    axes[1].set_xlim(0, 300)
+    axes[1].set_ylim(300, 0)
+    axes[1].set_title(f"frame {picks[0]}, its mesh", fontsize=9)
+    for ax, k, shot in zip(axes[2:], picks, shots[1:]):
+        ax.imshow(shot[crop])
+        ax.set_title(f"frame {k}", fontsize=9)
+    for ax in axes:
+        ax.axis("off")
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -753,4 +753,10 @@ def design_mesh2d(
 def render_mesh2d(
     image: _Path, sequence: dict, out: _Path, audio: _Path | None = None, fps: float = 25.0
 ) -> None: ...
-def portrait_mesh2d(width: int, height: int, feature_points: _Path, stream: _Path) -> dict: ...
+def portrait_mesh2d(
+    width: int,
+    height: int,
+    feature_points: _Path,
+    stream: _Path | None = None,
+    tracks: _Path | None = None,
+) -> dict: ...

@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 #include "bindings.hpp"
 #include "mpeg4face/error.hpp"
@@ -151,14 +152,23 @@ void bindMesh2d(py::module_& m) {
       "Renders the image warped by every plane: PNG frames into a folder, or an .mp4.");
   m.def(
       "portrait_mesh2d",
-      [](int width, int height, const Path& featurePoints, const Path& stream) {
-        return toDict(portraitMesh2d(
-            width, height,
-            parsePortraitFeaturePoints(readFile(featurePoints), featurePoints.string()),
-            readFapStream(stream)));
+      [](int width, int height, const Path& featurePoints, const std::optional<Path>& stream,
+         const std::optional<Path>& tracks) {
+        if (stream.has_value() == tracks.has_value()) {
+          throw py::value_error("portrait_mesh2d needs a stream or tracks (one of them)");
+        }
+        const PortraitFeaturePoints points =
+            parsePortraitFeaturePoints(readFile(featurePoints), featurePoints.string());
+        if (tracks) {
+          return toDict(
+              portraitMesh2d(width, height, points,
+                             parsePortraitTracks(readFile(*tracks), points, tracks->string())));
+        }
+        return toDict(portraitMesh2d(width, height, points, readFapStream(*stream)));
       },
-      "width"_a, "height"_a, "feature_points"_a, "stream"_a,
-      "The talking portrait's sequence: feature points (CSV fp,x,y) moved by a FAP stream.");
+      "width"_a, "height"_a, "feature_points"_a, "stream"_a = py::none(), "tracks"_a = py::none(),
+      "The talking portrait's sequence: feature points (CSV fp,x,y) moved by a FAP stream, or\n"
+      "along tracks (CSV frame,fp,x,y).");
 }
 
 }  // namespace mpeg4face::python

@@ -2,6 +2,7 @@
 // `mpeg4face mesh2d`: the 2D mesh object (docs/mesh2d.md): design a mesh on an image, track it
 // through a video, code it as .m2d and back, render the warped texture, a talking portrait.
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,7 @@ namespace {
 // Options shared by the subcommands; each takes the ones it needs.
 struct Args {
   std::vector<std::string> files;
-  std::string output, mesh, mask, audio, featurePoints;
+  std::string output, mesh, mask, audio, featurePoints, tracks, m2d;
   int uniformCols = 0, uniformRows = 0, delaunay = 0, topology = 0;
   double step = 0.5, fps = 0;
 };
@@ -42,6 +43,10 @@ Args parseArgs(const std::vector<std::string>& args, size_t first) {
       out.audio = optionValue(args, i, "an audio file");
     } else if (a == "--feature-points") {
       out.featurePoints = optionValue(args, i, "a CSV of fp,x,y");
+    } else if (a == "--tracks") {
+      out.tracks = optionValue(args, i, "a CSV of frame,fp,x,y");
+    } else if (a == "--m2d") {
+      out.m2d = optionValue(args, i, "an output .m2d");
     } else if (a == "--uniform") {
       const std::string& v = optionValue(args, i, "COLSxROWS");
       const size_t x = v.find('x');
@@ -79,6 +84,17 @@ void progress(size_t frame, size_t count) {
     std::fprintf(stderr, "\rframe %zu/%zu", frame + 1, count);
     if (frame + 1 == count) std::fprintf(stderr, "\n");
   }
+}
+
+// The texture the intra plane lies on: an image, or the first frame of a video or of a folder
+// of frames (a tracked sequence's intra plane is its first frame).
+Image readTexture(const std::string& path) {
+  const std::string ext = extensionOf(path);
+  if (std::filesystem::is_directory(path) || ext == ".mp4" || ext == ".avi" || ext == ".mov" ||
+      ext == ".mkv" || ext == ".webm" || ext == ".m4v") {
+    return readFrames(path, 1).front();
+  }
+  return readImage(path);
 }
 
 void render(const Image& image, const Mesh2dSequence& s, const Args& a, double fps) {
@@ -164,27 +180,37 @@ int runMesh2d(const std::vector<std::string>& args) {
     return 0;
   }
   if (sub == "render") {
-    needFiles(a, 2, "IMAGE and SEQ.json");
-    const Image image = readImage(a.files[0]);
+    needFiles(a, 2, "IMAGE (or VIDEO or FRAME_DIR) and SEQ.json");
+    const Image image = readTexture(a.files[0]);
     render(image, readMesh2dJson(a.files[1]), a, 25);
     return 0;
   }
   if (sub == "portrait") {
-    needFiles(a, 2, "IMAGE and STREAM.fap");
+    needFiles(a, a.tracks.empty() ? 2 : 1,
+              a.tracks.empty() ? "IMAGE and STREAM.fap (or --tracks)" : "IMAGE only with --tracks");
     if (a.featurePoints.empty()) throw UsageError("needs --feature-points FP.csv");
     const Image image = readImage(a.files[0]);
     const PortraitFeaturePoints points =
         parsePortraitFeaturePoints(readFile(a.featurePoints), a.featurePoints);
-    const FapStream stream = readFapStream(a.files[1]);
+    Mesh2dSequence mesh;
+    double fps = 25;
+    if (a.tracks.empty()) {
+      const FapStream stream = readFapStream(a.files[1]);
+      mesh = portraitMesh2d(image.width, image.height, points, stream);
+      fps = stream.frameRate;
+    } else {
+      mesh = portraitMesh2d(image.width, image.height, points,
+                            parsePortraitTracks(readFile(a.tracks), points, a.tracks));
+    }
     // Through the codec, as a receiver would get it.
-    const Mesh2dSequence mesh = portraitMesh2d(image.width, image.height, points, stream);
     Mesh2dCodingStats stats;
     Mesh2dSequence decoded;
-    encodeMesh2d(mesh, a.step, &decoded, &stats);
+    const std::vector<uint8_t> bytes = encodeMesh2d(mesh, a.step, &decoded, &stats);
+    if (!a.m2d.empty()) writeFileAtomically(a.m2d, std::string(bytes.begin(), bytes.end()));
     std::fprintf(stderr, "portrait: %ld nodes, %zu frames, coded in %llu bits\n",
                  static_cast<long>(mesh.frames[0].rows()), mesh.frames.size(),
                  static_cast<unsigned long long>(stats.totalBits));
-    render(image, decoded, a, stream.frameRate);
+    render(image, decoded, a, fps);
     return 0;
   }
   throw UsageError("unknown subcommand '" + sub + "'");

@@ -42,7 +42,7 @@ std::vector<bool> foldedNodes(const Mesh2dNodes& p, const Mesh2dTriangles& t) {
 
 }  // namespace
 
-std::vector<Image> readFrames(const std::filesystem::path& path) {
+std::vector<Image> readFrames(const std::filesystem::path& path, size_t limit) {
   std::vector<Image> frames;
   if (std::filesystem::is_directory(path)) {
     std::vector<std::filesystem::path> files;
@@ -50,6 +50,7 @@ std::vector<Image> readFrames(const std::filesystem::path& path) {
       if (entry.is_regular_file()) files.push_back(entry.path());
     }
     std::sort(files.begin(), files.end());
+    files.resize(std::min(files.size(), limit));
     for (const auto& file : files) frames.push_back(readImage(file));
     if (frames.empty()) throw Error(path.string(), 0, "frames", "the folder has no images");
     return frames;
@@ -58,7 +59,7 @@ std::vector<Image> readFrames(const std::filesystem::path& path) {
     throw Error(path.string(), 0, "video", "no such file");
   cv::VideoCapture video(path.string());
   if (!video.isOpened()) throw Error(path.string(), 0, "video", "does not open as a video");
-  for (cv::Mat frame; video.read(frame);) {
+  for (cv::Mat frame; frames.size() < limit && video.read(frame);) {
     if (frame.type() != CV_8UC3) cv::cvtColor(frame, frame, cv::COLOR_GRAY2BGR);
     frames.push_back(imageOf(frame));
   }

@@ -59,6 +59,25 @@ void fillTriangle(const Image& texture, const Eigen::Vector2d (&p)[3],
     int64_t u = std::llround(src.x() * kOne), v = std::llround(src.y() * kOne);
     const int64_t du = std::llround(ax.x() * kOne), dv = std::llround(ax.y() * kOne);
     uint8_t* o = out.row(y) + size_t(x0) * Channels;
+    const int64_t uEnd = u + du * (x1 - x0), vEnd = v + dv * (x1 - x0);
+    if (std::min(u, uEnd) >= 0 && std::max(u, uEnd) < maxU && std::min(v, vEnd) >= 0 &&
+        std::max(v, vEnd) < maxV) {
+      // The whole span samples inside the texture (the usual case): no clamping per pixel.
+      const uint8_t* base = texture.pixels.data();
+      const size_t stride = size_t(texture.width) * Channels;
+      for (int x = x0; x <= x1; ++x, u += du, v += dv, o += Channels) {
+        const auto iu = static_cast<size_t>(u >> 16), iv = static_cast<size_t>(v >> 16);
+        const auto wu = static_cast<int>(((u & 0xffff) + 128) >> 8);  // 0..256
+        const auto wv = static_cast<int>(((v & 0xffff) + 128) >> 8);
+        const uint8_t* t = base + iv * stride + iu * Channels;
+        for (int c = 0; c < Channels; ++c) {
+          const int top = t[c] * (256 - wu) + t[c + Channels] * wu;
+          const int bottom = t[stride + c] * (256 - wu) + t[stride + c + Channels] * wu;
+          o[c] = static_cast<uint8_t>((top * (256 - wv) + bottom * wv + 32768) >> 16);
+        }
+      }
+      continue;
+    }
     for (int x = x0; x <= x1; ++x, u += du, v += dv, o += Channels) {
       const int64_t cu = std::clamp<int64_t>(u, 0, maxU), cv = std::clamp<int64_t>(v, 0, maxV);
       const int iu = std::min(static_cast<int>(cu >> 16), lastU);

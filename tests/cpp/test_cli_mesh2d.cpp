@@ -56,6 +56,12 @@ TEST(CliMesh2d, DesignEncodeDecodeRender) {
              " -o " + (dir / "tracked.json").string());
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(readMesh2dJson(dir / "tracked.json").frames.size(), 5u);
+  // The frames' folder as the texture: its first frame, the intra plane's.
+  r = runCli("mesh2d render " + (dir / "frames").string() + " " + (dir / "d.json").string() +
+             " -o " + (dir / "again").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(readImage(dir / "again" / "frame_00003.png").pixels,
+            readImage(dir / "frames" / "frame_00003.png").pixels);
 }
 
 TEST(CliMesh2d, PortraitToMp4WithAudio) {
@@ -84,6 +90,32 @@ TEST(CliMesh2d, PortraitToMp4WithAudio) {
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_GT(std::filesystem::file_size(dir / "out.mp4"), 1000u);
   EXPECT_FALSE(std::filesystem::exists(dir / "out.mp4.part.mp4"));
+}
+
+TEST(CliMesh2d, PortraitAlongTracksKeepsTheBitstream) {
+  const auto dir = test::scratchDir();
+  const std::string image = imageFile("face.png", 160, 200);
+  const std::string csv = test::writeScratchFile(
+      "fp.csv", "fp,x,y\n3.5,100,80\n3.6,60,80\n9.15,80,115\n2.2,80,140\n2.1,80,175\n");
+  const std::string tracks = test::writeScratchFile(
+      "tracks.csv",
+      "frame,fp,x,y\n0,3.5,100,80\n0,3.6,60,80\n0,9.15,80,115\n0,2.2,80,140\n0,2.1,80,175\n"
+      "1,3.5,100,80\n1,3.6,60,80\n1,9.15,80,115\n1,2.2,80,139\n1,2.1,80,180\n");
+  const std::string m2d = (dir / "p.m2d").string();
+  auto r = runCli("mesh2d portrait " + image + " --feature-points " + csv + " --tracks " + tracks +
+                  " --m2d " + m2d + " -o " + (dir / "frames").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir / "frames" / "frame_00001.png"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "frames" / "frame_00002.png"));
+  r = runCli("mesh2d decode " + m2d + " -o " + (dir / "p.json").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  const Mesh2dSequence s = readMesh2dJson(dir / "p.json");
+  ASSERT_EQ(s.frames.size(), 2u);
+  EXPECT_GT((s.frames[1] - s.frames[0]).cwiseAbs().maxCoeff(), 4);
+  r = runCli("mesh2d portrait " + image + " --feature-points " + csv + " --tracks " + tracks + " " +
+             tracks + " -o " + (dir / "x").string());
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_TRUE(has(r.out, "IMAGE only with --tracks")) << r.out;
 }
 
 TEST(CliMesh2d, BadInputIsNamed) {

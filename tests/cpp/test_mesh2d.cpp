@@ -8,6 +8,7 @@
 #include "mpeg4face/mesh2d.hpp"
 #include "mpeg4face/mesh2d_codec.hpp"
 #include "mpeg4face/mesh2d_json.hpp"
+#include "mpeg4face/mesh2d_portrait.hpp"
 #include "test_support.hpp"
 
 namespace mpeg4face {
@@ -195,6 +196,95 @@ TEST(Mesh2d, TraversalIsBreadthFirstFromTheTopLeftNode) {
   Mesh2dNodes nodes = uniformMeshNodes(u);
   nodes.row(2) << 1, -1;
   EXPECT_EQ(mesh2dTraversal(nodes, uniformMeshTriangles(u)).nodeOrder[0], 2);
+}
+
+TEST(Mesh2d, TraversalMatchesTheTextOfFig24) {
+  // Section 3.3.2.3 describes Fig. 24 (the drawing is not in our copy of the paper): after five
+  // triangles are labelled, six nodes are ordered; triangle 3 is current, with base edge b,
+  // right edge r and left edge l; the next two labelled triangles share r and l with it; then
+  // triangle 4 is current. A Delaunay mesh built to match that text (node names A..J, not the
+  // drawing's): A top-left, A B E J H I G the boundary clockwise, C D F inside.
+  enum { A, B, E, J, H, I, G, C, D, F };
+  Mesh2dSequence s;
+  s.type = Mesh2dType::Delaunay;
+  s.width = s.height = 10;
+  s.boundary = 7;
+  Mesh2dNodes nodes(10, 2);
+  nodes << 0, 0, 4, 0, 6, 3, 7, 6, 4, 7, 1.5, 7.5, 0, 7, 3, 2, 2, 4, 0.5, 5;
+  s.frames = {nodes};
+  const Mesh2dTraversal t = mesh2dTraversal(nodes, meshTriangles(s));
+  ASSERT_GE(t.vertices.size(), 8u);
+  using V = std::array<int, 3>;
+  EXPECT_EQ(t.vertices[0], (V{A, B, C}));  // base edge: the top-left node, the next clockwise
+  EXPECT_EQ(t.vertices[1], (V{A, C, D}));  // triangle 0's right neighbour, then its left one
+  EXPECT_EQ(t.vertices[2], (V{C, B, E}));
+  EXPECT_EQ(t.vertices[3], (V{A, D, F}));  // triangle 1's: b = AD, r = AF, l = DF
+  EXPECT_EQ(t.vertices[4], (V{D, C, E}));
+  // Five triangles labelled: six nodes ordered (triangle 4's third node E was triangle 2's).
+  EXPECT_EQ(std::vector<int>(t.nodeOrder.begin(), t.nodeOrder.begin() + 6),
+            (std::vector<int>{A, B, C, D, E, F}));
+  // Triangle 2 labels nothing (its other edges are the boundary and triangle 4's), so
+  // triangle 3 is current: labels 5 and 6 go across r = <l n> = AF and l = <m n> = DF, each
+  // with the shared edge as its base.
+  const V current = t.vertices[3];
+  EXPECT_EQ(t.vertices[5][0], current[0]);
+  EXPECT_EQ(t.vertices[5][1], current[2]);
+  EXPECT_EQ(t.vertices[6][0], current[2]);
+  EXPECT_EQ(t.vertices[6][1], current[1]);
+  // Then triangle 4 is current: label 7 lies across its right edge DE.
+  EXPECT_EQ(t.vertices[7][0], D);
+  EXPECT_EQ(t.vertices[7][1], E);
+  EXPECT_EQ(t.vertices.size(), 11u);  // and so on until every triangle is labelled
+}
+
+TEST(Mesh2d, PortraitFollowsTracks) {
+  // ES0 = 40 px: 2.3 lies within ES0 / 12 of 2.2 (a closed mouth) and is no node of its own.
+  const PortraitFeaturePoints points = parsePortraitFeaturePoints(
+      "fp,x,y\n3.5,100,80\n3.6,60,80\n9.15,80,115\n2.2,80,140\n2.3,80,141\n2.4,98,144\n"
+      "2.5,62,144\n2.1,80,175\n");
+  std::string text = "frame,fp,x,y\n";
+  for (int f = 0; f < 3; ++f) {
+    for (size_t i = 0; i < points.ids.size(); ++i) {
+      const double down = points.ids[i] == "2.1" ? 6.0 * f : points.ids[i] == "2.3" ? 5.0 * f : 0;
+      text += std::to_string(f) + "," + points.ids[i] + "," +
+              std::to_string(points.positions(static_cast<Eigen::Index>(i), 0)) + "," +
+              std::to_string(points.positions(static_cast<Eigen::Index>(i), 1) + down) + "\n";
+    }
+  }
+  const Mesh2dSequence s = portraitMesh2d(160, 200, points, parsePortraitTracks(text, points));
+  ASSERT_EQ(s.frames.size(), 3u);
+  auto nodeAt = [&](double x, double y) {
+    for (Eigen::Index n = 0; n < s.frames[0].rows(); ++n) {
+      if ((s.frames[0].row(n) - Eigen::RowVector2d(x, y)).norm() < 1e-9) return n;
+    }
+    return Eigen::Index{-1};
+  };
+  const Eigen::Index chin = nodeAt(80, 175);
+  ASSERT_GE(chin, 0);
+  EXPECT_EQ(nodeAt(80, 141), -1);
+  EXPECT_NEAR(s.frames[2](chin, 1) - s.frames[0](chin, 1), 12, 1e-9);
+  EXPECT_EQ(s.frames[2].row(nodeAt(80, 140)), s.frames[0].row(nodeAt(80, 140)));
+  for (const Mesh2dNodes& plane : s.frames) {
+    for (Eigen::Index t = 0; t < s.triangles.rows(); ++t) {
+      EXPECT_GT(cross(plane, s.triangles(t, 0), s.triangles(t, 1), s.triangles(t, 2)), 0);
+    }
+  }
+  // Bad tracks are named by line and field.
+  const auto bad = [&](const std::string& tracks, int line, const std::string& field,
+                       const std::string& reason) {
+    const Error e = errorOf([&] { parsePortraitTracks(tracks, points, "t.csv"); });
+    EXPECT_EQ(e.line(), line) << e.what();
+    EXPECT_EQ(e.field(), field) << e.what();
+    EXPECT_NE(e.reason().find(reason), std::string::npos) << e.what();
+  };
+  const size_t firstFrame = text.find("\n1,");
+  bad(text.substr(0, firstFrame + 1) + "2,2.1,80,175\n", 10, "frame", "expected 1, not 2");
+  bad("frame,fp,x,y\n0,3.5,100,80\n1,3.5,100,80\n", 3, "fp", "frame 0 lacks 3.6");
+  bad("0,9.1,1,1\n", 1, "fp", "'9.1' is not one of the portrait's feature points");
+  bad("0,3.5,1,1\n0,3.5,1,1\n", 2, "fp", "3.5 is given twice in a frame");
+  bad("0,3.5,1,y\n", 1, "y", "'y' is not a number");
+  bad("0,3.5,1\n", 1, "row", "expected frame,fp,x,y");
+  bad("", 0, "frame", "no frames");
 }
 
 TEST(Mesh2d, SmoothMotionDecodesWithinHalfTheStep) {

@@ -14,6 +14,10 @@
   printed, and decoding the bitstream again gives the decoded file;
 - the preview has one rendered frame per scene frame of the stream, a contact sheet of 4 x 3
   frames and an MPEG-4 video;
+- the talking portrait: its .m2d decodes to the JSON the demo wrote, one plane per frame of
+  the sentence, no triangle folded in any plane; the feature points' nodes follow the tracks
+  Blender projected (within the coding step) and the mouth opens; a video with sound as long
+  as the sentence, and a contact sheet of 4 x 3 frames;
 - the real capture's FAP stream (made on the ICT head) is as long as the capture, its coded
   and decoded copies check out as the sentence's, and its side-by-side sheet has 3 x 6 tiles.
 Prints one line per check; exits 1 on the first failure.
@@ -51,6 +55,9 @@ def check_files(out: Path) -> None:
              "preview/contact_sheet.png", "preview/preview.mp4", "capture.fap",
              "capture_to_fap.txt", "capture_dct.fba", "capture_dct_decoded.fap",
              "coding_capture.txt", "capture_animated.glb", "capture_sheet.png"]
+    names += [f"portrait/{name}" for name in (
+        "portrait.png", "feature_points.csv", "tracks.csv", "portrait.m2d", "portrait.json",
+        "portrait.mp4", "contact_sheet.png")]
     for mode in ("predictive", "dct"):
         names += [f"hello_{mode}.fba", f"hello_{mode}_decoded.fap", f"coding_{mode}.txt"]
     for name in names:
@@ -146,6 +153,65 @@ def check_preview(out: Path) -> None:
        f"{sheet[1]}, video {len(video) // 1024} KiB")
 
 
+def read_csv_rows(path: Path) -> list[list[str]]:
+    return [line.split(",") for line in path.read_text().splitlines()[1:] if line]
+
+
+def check_portrait(out: Path) -> None:
+    folder = out / "portrait"
+    decoded = mpeg4face.decode_mesh2d((folder / "portrait.m2d").read_bytes())
+    written = mpeg4face.read_mesh2d(folder / "portrait.json")
+    frames = decoded["frames"]
+    if not (np.allclose(frames, written["frames"], atol=1e-6)
+            and np.array_equal(decoded["triangles"], written["triangles"])):
+        fail("portrait.m2d decoded again differs from portrait.json")
+    stream = mpeg4face.read_fap(out / "hello.fap")
+    if len(frames) != len(stream):
+        fail(f"the portrait has {len(frames)} planes, the sentence {len(stream)} frames")
+    # Triangles are clockwise on the screen (y down): positive cross products, in every plane.
+    a, b, c = (frames[:, decoded["triangles"][:, k]] for k in range(3))
+    cross = ((b - a)[..., 0] * (c - a)[..., 1] - (b - a)[..., 1] * (c - a)[..., 0])
+    if cross.min() <= 0:
+        plane, triangle = np.unravel_index(cross.argmin(), cross.shape)
+        fail(f"portrait: triangle {triangle} folds over in plane {plane}")
+    # Each feature point that is a node follows its track (frame 0 is the neutral picture).
+    neutral = {fp: (float(x), float(y)) for fp, x, y in read_csv_rows(folder / "feature_points.csv")}
+    tracks: dict[str, np.ndarray] = {fp: np.zeros((len(frames), 2)) for fp in neutral}
+    for frame, fp, x, y in read_csv_rows(folder / "tracks.csv"):
+        tracks[fp][int(frame)] = float(x), float(y)
+    step = 0.5
+    followed, worst, opening = 0, 0.0, 0.0
+    for fp, position in neutral.items():
+        distance = np.linalg.norm(frames[0] - position, axis=1)
+        if distance.min() > step:
+            continue  # merged into a point close by (the closed mouth's inner lips)
+        node = int(distance.argmin())
+        moved = frames[1:, node] - frames[0, node]
+        tracked = tracks[fp][1:] - np.array(position)
+        worst = max(worst, float(np.abs(moved - tracked).max()))
+        followed += 1
+        if fp == "8.2":  # the lower lip's middle: down when the mouth opens
+            opening = float(moved[:, 1].max())
+    if followed < 40 or worst > step + 1e-6:
+        fail(f"portrait: {followed} feature point nodes, off their tracks by up to {worst:.2f} px")
+    if opening < 5:
+        fail(f"portrait: the lower lip moves down {opening:.1f} px at most; the mouth never opens")
+    probe = subprocess.run(
+        ["ffprobe", "-v", "error", "-show_entries", "stream=codec_type:format=duration", "-of",
+         "default=noprint_wrappers=1", str(folder / "portrait.mp4")],
+        capture_output=True, text=True)
+    fields = probe.stdout.split()
+    seconds = float(next((f.split("=")[1] for f in fields if f.startswith("duration=")), "0"))
+    if "codec_type=audio" not in fields or abs(seconds - stream.duration) > 0.2:
+        fail(f"portrait.mp4: {probe.stdout!r}; expected video and audio of {stream.duration:.2f} s")
+    width, height = png_size(folder / "contact_sheet.png")
+    if width < 4 * 300 or height < 3 * 260:
+        fail(f"portrait/contact_sheet.png is {width} x {height}, not 4 x 3 frames")
+    ok(f"portrait: {len(frames)} planes of {frames.shape[1]} nodes, none folded; {followed} "
+       f"feature points on their tracks within {worst:.2f} px, the lower lip down "
+       f"{opening:.1f} px at most; video {seconds:.2f} s with sound")
+
+
 def check_capture(out: Path) -> None:
     capture = mpeg4face.read_livelink_csv(
         ROOT / "tests/data/livelink-face/MySlate_3_Jason_Millers_iPhone.csv")
@@ -180,6 +246,7 @@ def main() -> None:
     check_vrml(args.out)
     check_streams(args.out)
     check_preview(args.out)
+    check_portrait(args.out)
     check_capture(args.out)
     print("the demo's output checks out")
 

@@ -60,3 +60,19 @@ def test_portrait_renders(image: Path, tmp_path: Path) -> None:
     short = mpeg4face.read_mesh2d(tmp_path / "s.json")
     mpeg4face.render_mesh2d(image, short, tmp_path / "frames")
     assert (tmp_path / "frames" / "frame_00002.png").exists()
+
+
+def test_portrait_along_tracks(tmp_path: Path) -> None:
+    csv = tmp_path / "fp.csv"
+    csv.write_text("3.5,100,50\n3.6,60,50\n2.1,80,100\n")
+    tracks = tmp_path / "tracks.csv"
+    tracks.write_text("".join(f"{f},3.5,100,50\n{f},3.6,60,50\n{f},2.1,80,{100 + 3 * f}\n"
+                              for f in range(4)))
+    sequence = mpeg4face.portrait_mesh2d(160, 120, csv, tracks=tracks)
+    chin = np.flatnonzero((sequence["frames"][0] == [80, 100]).all(axis=1))
+    assert chin.size == 1 and sequence["frames"][3, chin[0], 1] == 109
+    tracks.write_text("0,3.5,100,50\n0,3.6,60,50\n")
+    with pytest.raises(mpeg4face.Error, match=r"tracks.csv: fp: frame 0 lacks 2.1"):
+        mpeg4face.portrait_mesh2d(160, 120, csv, tracks=tracks)
+    with pytest.raises(ValueError, match="a stream or tracks"):
+        mpeg4face.portrait_mesh2d(160, 120, csv)

@@ -4,7 +4,8 @@
 // Delaunay mesh over the image is anchored on the face's feature points; each frame moves
 // the feature points in the image plane by their FAPs (value x FAPU along the FAP's positive
 // motion, up/down/left/right ones), the other interior nodes by a Gaussian-weighted share of
-// the nearby feature points' motion, the image frame not at all.
+// the nearby feature points' motion, the image frame not at all. Or the feature points follow
+// given tracks (a 3D face's FaceDefTables evaluated and projected by a camera, say).
 #pragma once
 
 #include <string>
@@ -40,8 +41,23 @@ struct PortraitOptions {
 
 // One plane per frame of `stream`, frame 0 the neutral face (the intra plane; the stream's
 // own frame 0 is taken as neutral) and frame k the stream's frame k after it. Throws
-// mpeg4face::Error if a feature point lies outside the image or too close to another.
+// mpeg4face::Error if a feature point lies outside the image. A point closer than ES0 / 12 to
+// an earlier one (a closed mouth's inner lip) is not a node of its own (it would fold).
 Mesh2dSequence portraitMesh2d(int width, int height, const PortraitFeaturePoints& points,
                               const FapStream& stream, const PortraitOptions& options = {});
+
+// Feature points tracked through frames in the image: rows `frame,fp,x,y` (pixels, y down), an
+// optional header row `frame,fp,x,y`, frames 0, 1, 2, ... in order, each giving every point of
+// `points` once (no other). One plane per frame, rows in the order of `points`. Throws
+// mpeg4face::Error naming `source`, the line and the field at fault.
+std::vector<Mesh2dNodes> parsePortraitTracks(std::string_view text,
+                                             const PortraitFeaturePoints& points,
+                                             const std::string& source = {});
+
+// As above, the feature points at `tracks[k]` in plane k (tracks[0] is taken as the neutral
+// face, `points`, which the image shows). Of the FAPU only ES is needed (3.5 and 3.6).
+Mesh2dSequence portraitMesh2d(int width, int height, const PortraitFeaturePoints& points,
+                              const std::vector<Mesh2dNodes>& tracks,
+                              const PortraitOptions& options = {});
 
 }  // namespace mpeg4face

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "mpeg4face/mesh2d.hpp"
@@ -14,8 +15,10 @@
 namespace mpeg4face {
 
 // The frames of a video file (anything OpenCV's VideoCapture reads), or of a folder of images
-// in name order. Throws mpeg4face::Error naming the file that does not load.
-std::vector<Image> readFrames(const std::filesystem::path& path);
+// in name order; the first `limit` only. Throws mpeg4face::Error naming the file that does
+// not load.
+std::vector<Image> readFrames(const std::filesystem::path& path,
+                              size_t limit = std::numeric_limits<size_t>::max());
 
 struct Mesh2dTrackOptions {
   int window = 21;                               // Lucas-Kanade window, pixels
