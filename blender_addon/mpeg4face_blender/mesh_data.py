@@ -68,17 +68,16 @@ def fp_groups(obj: bpy.types.Object, bm: bmesh.types.BMesh | None = None
     if not by_index:
         return groups
     if bm is None:
-        members = ((v.index, [(g.group, g.weight) for g in v.groups]) for v in obj.data.vertices)
+        members = ((v.index, g.group, g.weight) for v in obj.data.vertices for g in v.groups)
     else:
         layer = bm.verts.layers.deform.active
         if layer is None:
             return groups
-        members = ((v.index, v[layer].items()) for v in bm.verts)
-    for vertex, weights in members:
-        for index, weight in weights:
-            name = by_index.get(index)
-            if name is not None:
-                groups[name].append((vertex, weight))
+        members = ((v.index, i, w) for v in bm.verts for i, w in v[layer].items())
+    for vertex, index, weight in members:
+        name = by_index.get(index)
+        if name is not None:
+            groups[name].append((vertex, weight))
     return groups
 
 
