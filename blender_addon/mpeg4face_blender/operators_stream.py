@@ -246,9 +246,10 @@ def is_live(obj: bpy.types.Object) -> bool:
 
 def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
                stream: mpeg4face.FapStream, start: int, draw: bool | None = None) -> list[str]:
-    """Builds the tables of the whole face (generate_face on poses.face_model: the head's
-    grammar keys `keys`, its parts' grammar keys and the pose markers), then shows the
-    stream through the core's evaluator: the exact MPEG-4 result, visemes and expressions
+    """Builds the tables of the whole face for the FAPs the stream animates
+    (generate_face on poses.face_model: the head's grammar keys `keys`, its parts' grammar
+    keys and the pose markers, of those FAPs), then shows the stream through the core's
+    evaluator: the exact MPEG-4 result, visemes and expressions
     with the standard's priorities included, eyes, jaw and head moved by their Transforms.
 
     Each object of the face gets a shape key LIVE_KEY shown alone (show_only_shape_key),
