@@ -59,18 +59,25 @@ def coord_index(bm: bmesh.types.BMesh) -> list[int]:
     return out
 
 
-def fp_groups(obj: bpy.types.Object, bm: bmesh.types.BMesh) -> dict[str, list[tuple[int, float]]]:
-    """FP_ vertex group name -> its (vertex, weight) members."""
+def fp_groups(obj: bpy.types.Object, bm: bmesh.types.BMesh | None = None
+              ) -> dict[str, list[tuple[int, float]]]:
+    """FP_ vertex group name -> its (vertex, weight) members: from `bm`, or without it from
+    the mesh datablock (Object Mode; far quicker than making a bmesh of a dense mesh)."""
     by_index = {g.index: g.name for g in obj.vertex_groups if fp_logic.feature_point_of_group(g.name)}
     groups: dict[str, list[tuple[int, float]]] = {name: [] for name in by_index.values()}
-    layer = bm.verts.layers.deform.active
-    if layer is None or not by_index:
+    if not by_index:
         return groups
-    for v in bm.verts:
-        for index, weight in v[layer].items():
-            name = by_index.get(index)
-            if name is not None:
-                groups[name].append((v.index, weight))
+    if bm is None:
+        members = ((v.index, g.group, g.weight) for v in obj.data.vertices for g in v.groups)
+    else:
+        layer = bm.verts.layers.deform.active
+        if layer is None:
+            return groups
+        members = ((v.index, i, w) for v in bm.verts for i, w in v[layer].items())
+    for vertex, index, weight in members:
+        name = by_index.get(index)
+        if name is not None:
+            groups[name].append((vertex, weight))
     return groups
 
 
@@ -113,24 +120,61 @@ def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
 
 
 def mesh_and_points(obj: bpy.types.Object
-                    ) -> tuple[np.ndarray, list[int], dict[str, int], list[str]]:
+                    ) -> tuple[np.ndarray, np.ndarray | list[int], dict[str, int], list[str]]:
     """The mesh's vertices (standard axes, object space), its coordIndex, its feature
-    points (from the FP_ groups) and the warnings about those groups."""
-    with face_bmesh(obj) as bm:
-        fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
-        return standard_coords(bm), coord_index(bm), fp_vertices, warnings
+    points (from the FP_ groups) and the warnings about those groups. In Object Mode read
+    from the mesh datablock with foreach_get (a bmesh of a dense head costs a tenth of a
+    second), in Edit Mode from the edit bmesh."""
+    if obj.mode == "EDIT":
+        with face_bmesh(obj) as bm:
+            fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
+            return standard_coords(bm), coord_index(bm), fp_vertices, warnings
+    mesh = obj.data
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj))
+    return fp_logic.to_standard_axes(co), polygon_coord_index(mesh), fp_vertices, warnings
+
+
+def polygon_coord_index(mesh: bpy.types.Mesh) -> np.ndarray:
+    """The mesh's polygons as a coordIndex (int32, -1 after each face), in the order
+    coord_index gives them from a bmesh of the mesh."""
+    corners = np.empty(len(mesh.loops), dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", corners)
+    starts = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_start", starts)
+    sizes = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_total", sizes)
+    # Corner k of polygon i goes to its slot in the output, after i earlier -1s.
+    local = np.arange(int(sizes.sum())) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    out = np.full(int(sizes.sum()) + len(sizes), -1, dtype=np.int32)
+    out[np.repeat(np.cumsum(sizes + 1) - (sizes + 1), sizes) + local] = \
+        corners[np.repeat(starts, sizes) + local]
+    return out
 
 
 def shape_key_displacements(obj: bpy.types.Object, names: Iterable[str]
                             ) -> dict[str, np.ndarray]:
     """Each named shape key as displacements (standard axes) from the reference key: the
-    whole shape, whatever key it is relative to."""
+    whole shape, whatever key it is relative to. The keys are read into one buffer (a
+    foreach_get each) and turned in one product: a head has hundreds."""
     key = obj.data.shape_keys
-    if key is None:
+    names = list(names)
+    if key is None or not names:
         return {}
-    reference = shape_key_coords(key.reference_key)
-    return {name: fp_logic.to_standard_axes(shape_key_coords(key.key_blocks[name]) - reference)
-            for name in names}
+    count = len(obj.data.vertices)
+    buffer = np.empty((len(names) + 1, count * 3), dtype=np.float32)
+    key.reference_key.data.foreach_get("co", buffer[0])
+    for row, name in zip(buffer[1:], names):
+        key.key_blocks[name].data.foreach_get("co", row)
+    # Minus the reference in float64 (exact) straight into the standard's axes, (x, y, z)
+    # -> (x, z, -y) as fp_logic.to_standard_axes, without temporaries of the whole buffer.
+    rows = buffer.reshape(len(names) + 1, count, 3)
+    moved = np.empty((len(names), count, 3))
+    np.subtract(rows[1:, :, 0], rows[0, :, 0], out=moved[:, :, 0], dtype=np.float64)
+    np.subtract(rows[1:, :, 2], rows[0, :, 2], out=moved[:, :, 1], dtype=np.float64)
+    np.subtract(rows[0, :, 1], rows[1:, :, 1], out=moved[:, :, 2], dtype=np.float64)
+    return dict(zip(names, moved))
 
 
 def face_parts(obj: bpy.types.Object) -> list[bpy.types.Object]:

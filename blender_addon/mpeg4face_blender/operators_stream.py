@@ -21,7 +21,7 @@ from bpy_extras.io_utils import ExportHelper
 import mpeg4face
 
 from . import (bake_poses, compat, live_draw, live_logic, mesh_data, operators, poses,
-               stream_logic, ui_text)
+               shape_keys, stream_logic, ui_text)
 
 LIVE_KEY = "MPEG-4 live"  # the shape key the live preview writes; not in the grammar
 # The reference key the preview adds to a part without shape keys (LIVE_KEY needs one);
@@ -246,9 +246,10 @@ def is_live(obj: bpy.types.Object) -> bool:
 
 def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
                stream: mpeg4face.FapStream, start: int, draw: bool | None = None) -> list[str]:
-    """Builds the tables of the whole face (generate_face on poses.face_model: the head's
-    grammar keys `keys`, its parts' grammar keys and the pose markers), then shows the
-    stream through the core's evaluator: the exact MPEG-4 result, visemes and expressions
+    """Builds the tables of the whole face for the FAPs the stream animates
+    (generate_face on poses.face_model: the head's grammar keys `keys`, its parts' grammar
+    keys and the pose markers, of those FAPs), then shows the stream through the core's
+    evaluator: the exact MPEG-4 result, visemes and expressions
     with the standard's priorities included, eyes, jaw and head moved by their Transforms.
 
     Each object of the face gets a shape key LIVE_KEY shown alone (show_only_shape_key),
@@ -265,7 +266,15 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
     def key_names(o: bpy.types.Object) -> list[str]:
         return [k.name for k in (keys if o == obj else grammar_keys(o)).keys]
 
-    model, _ = poses.face_model(obj, key_names, scene)
+    # Only the tables of the FAPs the stream animates: the others cannot move the face
+    # while it plays, and reading their shape keys is most of the start's cost.
+    faps = stream_logic.animated_faps(stream)
+
+    def wanted(name: str) -> bool:
+        parsed = shape_keys.parse(name)
+        return parsed is None or parsed["fap"] in faps  # a malformed name: the core says why
+
+    model, _ = poses.face_model(obj, key_names, scene, wanted=wanted)
     generated = mpeg4face.generate_face(model)
     neutral = [t.local_matrix() for t in model.transforms]
     draw = not bpy.app.background if draw is None else draw

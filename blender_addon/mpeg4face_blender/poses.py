@@ -179,16 +179,21 @@ def _pose_channels(matrices: list[Matrix]) -> list[mpeg4face.TransformChannel]:
 
 
 def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], Iterable[str]],
-               scene: bpy.types.Scene, progress: Callable[[float], None] | None = None
+               scene: bpy.types.Scene, progress: Callable[[float], None] | None = None,
+               wanted: Callable[[str], bool] | None = None
                ) -> tuple[mpeg4face.FaceModel, list[str]]:
     """The head and its parts (meshes as the rig has them at the neutral marker, feature
     points, the shape keys key_names(object) gives plus the rig's deformed copies at the
     pose markers) with the pose markers as animations; and the warnings about FP_ groups.
-    progress(fraction) follows the markers. The scene's frame and the shape keys' mutes are
-    back as they were afterwards; RigError (an mpeg4face.Error) for a rig refused."""
+    With `wanted`, only the shape keys and pose markers whose names it accepts become
+    targets and poses (the live preview: those of its stream's FAPs); key_names still says
+    which keys are the grammar's, muted while the rig is read. progress(fraction) follows
+    the markers. The scene's frame and the shape keys' mutes are back as they were
+    afterwards; RigError (an mpeg4face.Error) for a rig refused."""
     objects = [head, *parts(head)]
     check_armatures(objects)
-    markers = pose_markers(scene, head)
+    wanted = wanted or (lambda _name: True)
+    markers = [m for m in pose_markers(scene, head) if wanted(m.name)]
 
     def transform_matrices(neutral_head: Matrix) -> list[Matrix]:
         """At the current frame: the head's matrix from its neutral one, and each part's
@@ -222,7 +227,7 @@ def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], I
     fp_objects: dict[str, tuple[str, int]] = {}
     for index, obj in enumerate(objects):
         _, faces, fp_vertices, group_warnings = mesh_data.mesh_and_points(obj)
-        targets = mesh_data.shape_key_displacements(obj, key_names(obj))
+        targets = mesh_data.shape_key_displacements(obj, filter(wanted, key_names(obj)))
         for (name, _), copies in zip(posed, deformed):
             if rig_logic.moves(copies[index], size):
                 d = fp_logic.to_standard_axes(copies[index])

@@ -228,6 +228,13 @@ def live_index(frame_numbers: npt.ArrayLike, frame_rate: float, seconds: float) 
     return int(max(0, np.searchsorted(times, seconds + 1e-9, side="right") - 1))
 
 
+def animated_faps(stream: mpeg4face.FapStream) -> set[int]:
+    """The FAPs a decoder animates at some frame of the stream (sent, held, or mirrored
+    from the other side's; 1: visemes, 2: expressions): the tables of no other FAP can
+    show anything while it plays."""
+    return {int(i) + 1 for i in np.flatnonzero(stream.resolved()["active"].any(axis=0))}
+
+
 def encoding_summary(bits: int, bits_per_second: float, psnr: float | None) -> str:
     """"20752 bits, 4803.7 bit/s, PSNR 47.75 dB" (lossless: PSNR infinite; none when there
     was nothing to compare)."""

@@ -100,13 +100,25 @@ int FaceModel::addMeshWithTransform(IndexedFaceSet mesh) {
   return meshIndex;
 }
 
-FaceModel neutralFaceModel(FaceModel model) {
-  for (IndexedFaceSet& mesh : model.meshes) {
-    mesh.morphTargets.clear();
-    mesh.weights.clear();
+FaceModel neutralFaceModel(const FaceModel& model) {
+  // Field by field: a copy of the model would copy every morph target first (hundreds of
+  // arrays the size of the mesh for a head with shape keys) only to drop them.
+  FaceModel out;
+  out.transforms = model.transforms;
+  out.roots = model.roots;
+  out.featurePoints = model.featurePoints;
+  out.meshes.reserve(model.meshes.size());
+  for (const IndexedFaceSet& mesh : model.meshes) {
+    IndexedFaceSet& m = out.meshes.emplace_back();
+    m.name = mesh.name;
+    m.coord = mesh.coord;
+    m.coordIndex = mesh.coordIndex;
+    m.normal = mesh.normal;
+    m.texCoord = mesh.texCoord;
+    m.texCoordIndex = mesh.texCoordIndex;
+    m.sourceIndex = mesh.sourceIndex;
   }
-  model.animations.clear();
-  return model;
+  return out;
 }
 
 void FaceModel::validate() const {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <utility>
 
 #include "fat_support.hpp"
@@ -40,13 +41,14 @@ void validateMesh(const FaceModel& graph, const FaceDefMesh& m, const std::strin
   std::vector<bool> seen(static_cast<std::size_t>(mesh.vertexCount()), false);
   for (std::size_t i = 0; i < m.coordIndex.size(); ++i) {
     const int v = m.coordIndex[i];
-    const std::string field = where + ".coordIndex[" + std::to_string(i) + "]";
+    // The field's name is made only for an error: a table lists thousands of vertices.
+    const auto field = [&] { return where + ".coordIndex[" + std::to_string(i) + "]"; };
     if (v < 0 || v >= mesh.vertexCount()) {
-      throw Error({}, 0, field,
+      throw Error({}, 0, field(),
                   "vertex " + std::to_string(v) + " out of range (mesh '" + mesh.name + "' has " +
                       std::to_string(mesh.vertexCount()) + " vertices)");
     }
-    if (seen[v]) throw Error({}, 0, field, "vertex " + std::to_string(v) + " is listed twice");
+    if (seen[v]) throw Error({}, 0, field(), "vertex " + std::to_string(v) + " is listed twice");
     seen[v] = true;
   }
   const auto expected = static_cast<Eigen::Index>(m.coordIndex.size()) * m.intervalCount();
@@ -285,9 +287,21 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
   // Priority of low-level FAPs: which of them cover each vertex slot / Transform field that a
   // viseme or expression table moves, and by what share (the entry's reach over the table's
   // largest, so that a FAP whose motion fades out does not cut the viseme off at its edge).
-  std::vector<FapBits> slotCover;
+  // The shares are compressed rows made in two passes (count, then fill in table order, so
+  // by FAP): a slot has at most one entry per FAP (validated: one table per FAP, one
+  // FaceDefMesh per mesh, no vertex listed twice).
+  std::vector<FapBits> slotCover(slotCount_);
   std::map<std::pair<int, int>, FapBits> fieldCover;
-  std::vector<std::map<std::uint8_t, float>> shares;
+  coverStart_.assign(slotCount_ + 1, 0);
+  for (const Table& t : tables_) {
+    if (t.fapID <= 2) continue;
+    for (const Mesh& m : t.meshes) {
+      for (std::uint32_t s : m.slot) ++coverStart_[s + 1];
+    }
+  }
+  std::partial_sum(coverStart_.begin(), coverStart_.end(), coverStart_.begin());
+  cover_.resize(coverStart_.back());
+  std::vector<std::uint32_t> next(coverStart_.begin(), coverStart_.end() - 1);
   for (const Table& t : tables_) {
     if (t.fapID <= 2) continue;
     const auto bit = static_cast<std::size_t>(t.fapID - 1);
@@ -296,13 +310,11 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
       for (float r : m.reach) largest = std::max(largest, r);
     }
     for (const Mesh& m : t.meshes) {
-      slotCover.resize(slotCount_);
-      shares.resize(slotCount_);
       for (std::size_t e = 0; e < m.slot.size(); ++e) {
         const std::uint32_t s = m.slot[e];
         slotCover[s].set(bit);
-        float& share = shares[s][static_cast<std::uint8_t>(bit)];
-        share = std::max(share, largest > 0 ? m.reach[e] / largest : 1.0f);
+        cover_[next[s]++] = {static_cast<std::uint8_t>(bit),
+                             largest > 0 ? m.reach[e] / largest : 1.0f};
       }
     }
     for (const TransformDef& d : t.transforms) {
@@ -312,19 +324,13 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
   for (Table& t : tables_) {
     if (t.fapID > 2) continue;
     for (Mesh& m : t.meshes) {
-      m.coveredBy.assign(m.slot.size(), FapBits());
-      if (slotCover.empty()) continue;
+      m.coveredBy.resize(m.slot.size());
       for (std::size_t i = 0; i < m.slot.size(); ++i) m.coveredBy[i] = slotCover[m.slot[i]];
     }
     for (TransformDef& d : t.transforms) {
       const auto it = fieldCover.find({d.def.transform, static_cast<int>(d.def.fieldId)});
       if (it != fieldCover.end()) d.coveredBy = it->second;
     }
-  }
-  coverStart_.assign(1, 0);
-  for (const auto& slot : shares) {
-    cover_.insert(cover_.end(), slot.begin(), slot.end());
-    coverStart_.push_back(static_cast<std::uint32_t>(cover_.size()));
   }
 }
 

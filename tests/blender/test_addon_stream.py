@@ -19,7 +19,7 @@ from conftest import DATA  # noqa: E402
 from mathutils import Matrix  # noqa: E402
 
 from mpeg4face_blender import (  # noqa: E402
-    compat, fp_logic, operators_faces, operators_stream, panels_stream, poses)
+    compat, fp_logic, mesh_data, operators_faces, operators_stream, panels_stream, poses)
 
 JOY = DATA / "xface-fap" / "joy.fap"
 KEY = "fap3_open_jaw@512"
@@ -207,6 +207,58 @@ def test_live_preview_is_the_fat_result_and_stops(head, joy):
     # started again from the panel's button, from the remembered stream
     assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
     assert operators_stream.is_live(head)
+
+
+def test_live_preview_builds_the_tables_of_the_streams_faps_only(head, monkeypatch):
+    # A key of FAP 4, which the stream never animates: no table for it (the start does not
+    # read it), and FAP 3 shows as the whole face's tables show it.
+    add_key(head, "fap4_lower_t_midlip@200", moved=slice(30, 40), by=np.array([0, 0, 0.05]))
+    sent = (0, 256, 512, 128)
+    mask = np.zeros((len(sent), 68), dtype=bool)
+    values = np.zeros((len(sent), 68), dtype=np.int32)
+    mask[:, 2], values[:, 2] = True, sent
+    stream = mpeg4face.FapStream.from_arrays(np.arange(len(sent), dtype=np.int32), mask,
+                                             values, frame_rate=30.0)
+    generate, built = mpeg4face.generate_face, []
+
+    def spy(model, *args, **kwargs):
+        result = generate(model, *args, **kwargs)
+        built.append(sorted(t["fap"] for t in result["face"].tables))
+        return result
+
+    monkeypatch.setattr(mpeg4face, "generate_face", spy)
+    basis = coords(head.data.shape_keys.key_blocks["Basis"])
+    operators_stream.start_live(head, bpy.context.scene, operators_stream.grammar_keys(head),
+                                stream, 1)
+    assert built == [[3]]
+    for index, value in enumerate(sent):
+        bpy.context.scene.frame_set(1 + index)
+        expected = basis.copy()
+        expected[JAW] += value / 512 * DROP
+        np.testing.assert_allclose(evaluated(head), expected, atol=1e-5)
+
+
+def test_the_mesh_read_in_object_mode_is_the_bmesh_one(head):
+    # The live preview reads the mesh with foreach_get; Edit Mode (and the panels) through
+    # bmesh: the same vertices, faces (a triangle, a quad, a pentagon) and feature points.
+    mesh = bpy.data.meshes.new("polygons")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (2, 0, 0), (2, 1, 0),
+                      (3, 0.5, 0), (2.5, 2, 0)], [], [(0, 1, 2), (1, 4, 5, 2), (4, 6, 7, 5, 2)])
+    polygons = bpy.data.objects.new("polygons", mesh)
+    polygons.vertex_groups.new(name="FP_2.1").add([6], 1.0, "REPLACE")
+    try:
+        for obj in (head, polygons):
+            coords_, faces, fp_vertices, _ = mesh_data.mesh_and_points(obj)
+            with mesh_data.face_bmesh(obj) as bm:
+                np.testing.assert_array_equal(coords_, mesh_data.standard_coords(bm))
+                assert list(faces) == mesh_data.coord_index(bm)
+                assert mesh_data.fp_groups(obj) == mesh_data.fp_groups(obj, bm)
+            assert fp_vertices
+        assert list(mesh_data.mesh_and_points(polygons)[1]) == [
+            0, 1, 2, -1, 1, 4, 5, 2, -1, 4, 6, 7, 5, 2, -1]
+    finally:
+        bpy.data.objects.remove(polygons)
+        bpy.data.meshes.remove(mesh)
 
 
 def test_live_handler_forgets_a_deleted_object(head):

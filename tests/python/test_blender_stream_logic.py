@@ -154,3 +154,18 @@ def test_encoding_summary():
     assert sl.encoding_summary(0, 0.0, None).endswith("no PSNR")
     assert sl.encoding_summary(0, 0.0, float("nan")).endswith("no PSNR")
 
+
+
+def test_animated_faps_are_the_sent_held_and_mirrored_ones():
+    # FAP 19 sent in frame 0 (held after it, and mirrored onto 20, which is never sent),
+    # a viseme in frame 1; nothing else: the live preview needs the tables of these only.
+    count = 3
+    mask = np.zeros((count, 68), dtype=bool)
+    values = np.zeros((count, 68), dtype=np.int32)
+    mask[0, 18], values[0, 18] = True, 100
+    mask[1, 0] = True
+    visemes = np.zeros((count, 4), dtype=np.int32)
+    visemes[1] = (3, 0, 63, 0)
+    stream = mpeg4face.FapStream.from_arrays(np.arange(count, dtype=np.int32), mask, values,
+                                             visemes=visemes)
+    assert sl.animated_faps(stream) == {1, 19, 20}

@@ -115,6 +115,6 @@ struct FaceModel {
 
 // The basis of a model with shape keys: the same model without morph targets, weights and
 // animations (the neutral face that deformed copies and tables start from).
-FaceModel neutralFaceModel(FaceModel model);
+FaceModel neutralFaceModel(const FaceModel& model);
 
 }  // namespace mpeg4face
