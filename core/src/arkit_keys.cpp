@@ -300,18 +300,18 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
         it->second += weight * mesh.morphTargets[static_cast<std::size_t>(t.target)].displacements;
       }
     }
-    // On the mesh of the key's point: the key written shared among its sibling FAPs, and
-    // that further over the area for the viseme and expression keys.
+    // On the mesh of the key's point: the key shared over the area for the viseme and
+    // expression keys, and among its sibling FAPs for the key written.
     const auto binding = out.head.featurePoints.find(std::string(fapInfo(key.fap).featurePoint));
     const int pointMesh = binding == out.head.featurePoints.end() ? -1 : binding->second.mesh;
     for (auto& [m, d] : meshes) {
-      if (m == pointMesh) {
-        FeaturePointShares(out.head, m, siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
-      }
       if (highLevel) {
         Points3 local = d;
         if (m == pointMesh) FeaturePointShares(out.head, m, area, kAreaPower).localise(key.fap, local);
         localisedAdded[static_cast<std::size_t>(m)].push_back({name, std::move(local)});
+      }
+      if (m == pointMesh) {
+        FeaturePointShares(out.head, m, siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
       }
       added[static_cast<std::size_t>(m)].push_back({name, std::move(d)});
     }
