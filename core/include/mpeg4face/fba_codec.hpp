@@ -48,6 +48,11 @@ struct FbaEncodeOptions {
   // the stream (the robust PSNR's normalisation) and bits what the FAP's adaptive model would
   // spend on it now (docs/rate-distortion.md, "Predictive mode: RDO quantisation").
   double rdoLambda = 0.0;
+  // With rdoLambda > 0: choose each FAP's levels over a whole group of planes at once (a
+  // trellis: a level moves every later residual) together with its inter range, by the same
+  // cost with bits the adaptive model's code length for the levels (docs/rate-distortion.md,
+  // "Predictive mode: trellis quantisation"). Slower; the syntax is the same.
+  bool rdoTrellis = false;
   // Wrap fba_object in visual_object_sequence and visual_object headers (profile Simple Face
   // Animation level 1, visual_object_type FBA), as a 14496-2 elementary stream starts.
   bool visualObjectSequence = false;
