@@ -15,8 +15,8 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Reconstructions tried per frame: those within K units of the nearest, K chosen so that a
 // state's own error stays below what this many bits are worth (a state further off cannot
 // pay for itself), bounded for speed.
-constexpr double kWindowBits = 16;
-constexpr int kMaxK = 32;
+constexpr double kWindowBits = 48;
+constexpr int kMaxK = 96;
 // Rate tables re-estimated from the levels found, at most this many times per range.
 constexpr int kPasses = 4;
 

@@ -53,6 +53,10 @@ struct FbaEncodeOptions {
   // cost with bits the adaptive model's code length for the levels (docs/rate-distortion.md,
   // "Predictive mode: trellis quantisation"). Slower; the syntax is the same.
   bool rdoTrellis = false;
+  // Predictive mode: leave out of the FAP mask the low-level FAPs that are 0 in every frame
+  // that sends them. A FAP never sent is the neutral face's, 0, so a decoder shows the same
+  // face; the reconstruction lacks those FAPs (they were only ever 0).
+  bool maskZeroFaps = false;
   // Wrap fba_object in visual_object_sequence and visual_object headers (profile Simple Face
   // Animation level 1, visual_object_type FBA), as a 14496-2 elementary stream starts.
   bool visualObjectSequence = false;
