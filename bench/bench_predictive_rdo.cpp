@@ -32,8 +32,8 @@ using mpeg4face::RdPoint;
 
 constexpr std::array kTargets{20.0, 25.0, 30.0, 35.0};
 constexpr std::array kLambdas{0.0, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2};
-constexpr std::array kTrellisLambdas{1e-3, 1.5e-3, 2e-3, 3e-3, 4e-3, 5e-3,
-                                     7e-3, 1e-2,   1.5e-2, 2e-2, 3e-2};
+constexpr std::array kTrellisLambdas{5e-4, 1e-3, 1.5e-3, 2e-3, 2.5e-3, 3e-3, 3.5e-3, 4e-3,
+                                     5e-3, 6e-3, 7e-3,   1e-2, 1.5e-2, 2e-2, 3e-2};
 constexpr int kTrellisMaxQuant = 12;
 
 double cpuSeconds() {
@@ -94,7 +94,8 @@ int main() {
   // 25 dB "after" encodings with those constant FAPs left out of the mask.
   double interValues = 0, stillValues = 0, constantValues = 0, bits25 = 0, bits25Masked = 0,
          bits25Period = 0;
-  std::printf("stream      target  before bits (q)   after bits (q, lambda)   trellis (q, lambda)\n");
+  std::printf(
+      "stream      target  before bits (q)   after bits (q, lambda)   trellis (q, lambda)\n");
   for (size_t s = 0; s < streams.size(); ++s) {
     const FapStream& stream = streams[s];
     samples += static_cast<double>(mpeg4face::fapSampleCount(stream));
@@ -129,7 +130,9 @@ int main() {
       const auto tr = cheapest(trellisPoints, kTargets[t]);
       if (!b || !a || !tr) {
         std::printf("%-10s %4.0f dB  %s\n", names[s].c_str(), kTargets[t],
-                    !b ? "before: not reached" : !a ? "after: not reached" : "trellis: not reached");
+                    !b   ? "before: not reached"
+                    : !a ? "after: not reached"
+                         : "trellis: not reached");
         allReached = false;
         continue;
       }
@@ -139,9 +142,10 @@ int main() {
       const FbaEncodeOptions options{.fapQuant = a->point.fapQuant, .rdoLambda = a->lambda};
       const auto enc = mpeg4face::encodeFba(stream, options);
       decodedAlike &= mpeg4face::decodeFba(enc.bytes) == enc.reconstruction;
-      const auto trellisEnc = mpeg4face::encodeFba(
-          stream, {.fapQuant = tr->point.fapQuant, .rdoLambda = tr->lambda, .rdoTrellis = true,
-                   .maskZeroFaps = true});
+      const auto trellisEnc = mpeg4face::encodeFba(stream, {.fapQuant = tr->point.fapQuant,
+                                                            .rdoLambda = tr->lambda,
+                                                            .rdoTrellis = true,
+                                                            .maskZeroFaps = true});
       decodedAlike &= mpeg4face::decodeFba(trellisEnc.bytes) == trellisEnc.reconstruction;
       if (t == 1) {
         bits25 += static_cast<double>(a->point.bits);
@@ -195,8 +199,8 @@ int main() {
   // Encode speed on all nine streams, fap_quant 4, without and with RDO.
   double values = 0;
   for (const FapStream& s : streams) values += static_cast<double>(mpeg4face::fapSampleCount(s));
-  for (const auto& [lambda, useTrellis] : {std::pair{0.0, false}, std::pair{1e-3, false},
-                                           std::pair{3e-3, true}}) {
+  for (const auto& [lambda, useTrellis] :
+       {std::pair{0.0, false}, std::pair{1e-3, false}, std::pair{3e-3, true}}) {
     const int repeats = useTrellis ? 1 : 20;
     std::vector<double> seconds;
     for (int run = 0; run < 7; ++run) {

@@ -84,8 +84,9 @@ void checkInput(const FapStream& stream, const FbaEncodeOptions& options) {
 std::vector<FapFrame> withoutZeroFaps(std::span<const FapFrame> frames) {
   std::vector<FapFrame> out(frames.begin(), frames.end());
   for (int fap = 3; fap <= kFapCount; ++fap) {
-    const bool zero = std::all_of(frames.begin(), frames.end(),
-                                  [&](const FapFrame& f) { return !f.has(fap) || f.value(fap) == 0; });
+    const bool zero = std::all_of(frames.begin(), frames.end(), [&](const FapFrame& f) {
+      return !f.has(fap) || f.value(fap) == 0;
+    });
     if (!zero) continue;
     for (FapFrame& f : out) f.mask.reset(static_cast<size_t>(fap - 1));
   }

@@ -542,8 +542,8 @@ class PredictiveEncoder {
   EncodeOutput& output_;
   BitWriter& out_;
   PredictiveState state_;
-  std::array<RdoFap, kFapCount> rdo_{};  // when rdoLambda > 0
-  std::vector<int> histogram_;           // shrinkInterRange's, kept to spare allocations
+  std::array<RdoFap, kFapCount> rdo_{};        // when rdoLambda > 0
+  std::vector<int> histogram_;                 // shrinkInterRange's, kept to spare allocations
   std::array<TrellisLevels, kFapCount> plan_;  // the group's levels, with rdoTrellis
 };
 

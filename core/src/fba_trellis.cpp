@@ -39,7 +39,9 @@ class Trellis {
   explicit Trellis(const TrellisProblem& p) : p_(p), n_(p.values.size()) {
     unit_ = std::max<int64_t>(p.step, 1);
     const double reach = std::sqrt(kWindowBits * p.lambda / p.weight) / static_cast<double>(unit_);
-    k_ = static_cast<int>(std::clamp(std::ceil(reach), 1.0, static_cast<double>(kMaxK)));
+    // The first window lies within the intra levels a range code reaches (2 cap + 1).
+    k_ = static_cast<int>(
+        std::clamp(std::ceil(reach), 1.0, static_cast<double>(std::min<int64_t>(kMaxK, p.cap))));
     width_ = 2 * k_ + 1;
     for (const int64_t x : p.values) centre_.push_back(quantise(x, p.step));
     start_.resize(n_);
@@ -52,9 +54,8 @@ class Trellis {
     std::vector<int64_t> levels(n_);
     int64_t reconstruction = 0, lo = 0, hi = 0;
     for (size_t t = 0; t < n_; ++t) {
-      const int64_t l =
-          std::clamp<int64_t>(quantise(p_.values[t] - reconstruction * unit_, p_.step), -p_.cap,
-                              p_.cap);
+      const int64_t l = std::clamp<int64_t>(
+          quantise(p_.values[t] - reconstruction * unit_, p_.step), -p_.cap, p_.cap);
       levels[t] = l;
       reconstruction += l;
       if (t > 0) {
@@ -155,8 +156,8 @@ class Trellis {
     for (size_t t = 1; t < n_; ++t) {
       const int64_t previous = start_[t - 1];
       const int64_t reachLo = previous + lo, reachHi = previous + width_ - 1 + hi;
-      start_[t] = std::clamp<int64_t>(centre_[t] - k_, reachLo,
-                                      std::max(reachLo, reachHi - width_ + 1));
+      start_[t] =
+          std::clamp<int64_t>(centre_[t] - k_, reachLo, std::max(reachLo, reachHi - width_ + 1));
       next_.assign(w, kInfinity);
       int32_t* back = &back_[t * w];
       for (size_t s = 0; s < w; ++s) {
@@ -212,8 +213,6 @@ class Trellis {
 
 }  // namespace
 
-TrellisLevels trellisQuantise(const TrellisProblem& problem) {
-  return Trellis(problem).solve();
-}
+TrellisLevels trellisQuantise(const TrellisProblem& problem) { return Trellis(problem).solve(); }
 
 }  // namespace mpeg4face::fba

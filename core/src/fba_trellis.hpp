@@ -25,7 +25,7 @@ struct TrellisProblem {
 };
 
 struct TrellisLevels {
-  std::vector<int64_t> levels;  // levels[0] the intra level, then the inter levels
+  std::vector<int64_t> levels;         // levels[0] the intra level, then the inter levels
   int64_t interMin = 0, interMax = 0;  // the inter levels' extent
 };
 
