@@ -32,8 +32,8 @@ using mpeg4face::RdPoint;
 
 constexpr std::array kTargets{20.0, 25.0, 30.0, 35.0};
 constexpr std::array kLambdas{0.0, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2};
-constexpr std::array kTrellisLambdas{5e-4, 1e-3, 1.5e-3, 2e-3, 2.5e-3, 3e-3, 3.5e-3, 4e-3,
-                                     5e-3, 6e-3, 7e-3,   1e-2, 1.5e-2, 2e-2, 3e-2};
+constexpr std::array kTrellisLambdas{1e-4, 2e-4, 5e-4, 1e-3, 1.5e-3, 2e-3,   2.5e-3, 3e-3, 3.5e-3,
+                                     4e-3, 5e-3, 6e-3, 7e-3, 1e-2,   1.5e-2, 2e-2,   3e-2};
 constexpr int kTrellisMaxQuant = 12;
 
 double cpuSeconds() {
