@@ -72,6 +72,10 @@ EncodeArgs parseArgs(const std::vector<std::string>& args) {
       out.options.intraPeriod = intArgument(args, i, 0, 1 << 30);
     } else if (a == "--rdo-lambda") {
       out.options.rdoLambda = numberArgument(args, i, "a lambda", 0.0);
+    } else if (a == "--rdo-trellis") {
+      out.options.rdoTrellis = true;
+    } else if (a == "--mask-zero-faps") {
+      out.options.maskZeroFaps = true;
     } else if (a == "--vos") {
       out.options.visualObjectSequence = true;
     } else if (a == "--json") {
@@ -171,6 +175,8 @@ int runEncode(const std::vector<std::string>& rawArgs) {
     j["fap_quant"] = args.options.fapQuant;
     j["intra_period"] = args.options.intraPeriod;
     j["rdo_lambda"] = args.options.rdoLambda;
+    j["rdo_trellis"] = args.options.rdoTrellis;
+    j["mask_zero_faps"] = args.options.maskZeroFaps;
     if (table) {
       j["fit"] = args.fit;
       j["fit_values_left_out"] = leftOut;

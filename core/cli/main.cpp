@@ -34,7 +34,7 @@ constexpr std::array kCommands{
     Command{"encode", "code a .fap stream as an MPEG-4 FBA bitstream: bits, bits/s, PSNR",
             "mpeg4face encode IN.fap -o OUT.fba [--mode predictive|dct|pca] [--fap-quant Q]\n"
             "                 [--intra-period N] [--pca-temporal T] [--pca-basis-bits B] [--vos]\n"
-            "                 [--rdo-lambda L] [--json]\n"
+            "                 [--rdo-lambda L [--rdo-trellis]] [--mask-zero-faps] [--json]\n"
             "                 | --mode auto --psnr DB [--quality robust|tao]  [--fit TABLE.json]\n"
             "  --mode M          predictive (default): quantised differences, arithmetic coded\n"
             "                    dct: 16-frame segments, a DCT per FAP (docs/dct-mode.md)\n"
@@ -52,6 +52,9 @@ constexpr std::array kCommands{
             "  --rdo-lambda L  predictive (and pca's predictive components): RDO quantisation,\n"
             "                  each inter value's level by e^2/R^2 + L x bits (default 0: off;\n"
             "                  try 0.001-0.005; docs/rate-distortion.md)\n"
+            "  --rdo-trellis   with --rdo-lambda: each FAP's levels and inter range chosen\n"
+            "                  over the whole stream at once (fewer bits, slower)\n"
+            "  --mask-zero-faps  predictive: leave the FAPs that are always 0 out of the mask\n"
             "  --vos    start with visual_object_sequence and visual_object headers (a\n"
             "           14496-2 elementary stream; decode reads both forms)\n"
             "  --fit T  leave out the FAPs that FAP Interpolation Table T derives from the rest\n"

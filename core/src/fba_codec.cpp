@@ -4,6 +4,7 @@
 // plane to its mode (fba_predictive.cpp).
 #include "mpeg4face/fba_codec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -77,6 +78,19 @@ void checkInput(const FapStream& stream, const FbaEncodeOptions& options) {
       }
     }
   }
+}
+
+// `frames` without the low-level FAPs that are 0 in every frame that sends them.
+std::vector<FapFrame> withoutZeroFaps(std::span<const FapFrame> frames) {
+  std::vector<FapFrame> out(frames.begin(), frames.end());
+  for (int fap = 3; fap <= kFapCount; ++fap) {
+    const bool zero = std::all_of(frames.begin(), frames.end(), [&](const FapFrame& f) {
+      return !f.has(fap) || f.value(fap) == 0;
+    });
+    if (!zero) continue;
+    for (FapFrame& f : out) f.mask.reset(static_cast<size_t>(fap - 1));
+  }
+  return out;
 }
 
 // The planes up to fba_object_end_code and the end of the data.
@@ -177,7 +191,12 @@ FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options) 
   fba::EncodeOutput output{out, result.stats, result.reconstruction};
   switch (options.mode) {
     case FapCodingMode::Predictive:
-      fba::encodePredictive(frames, options, rate, output);
+      if (options.maskZeroFaps) {
+        const std::vector<FapFrame> masked = withoutZeroFaps(frames);
+        fba::encodePredictive(masked, options, rate, output);
+      } else {
+        fba::encodePredictive(frames, options, rate, output);
+      }
       break;
     case FapCodingMode::Dct:
       fba::encodeDct(frames, options, rate, output);

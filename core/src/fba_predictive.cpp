@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "fba_trellis.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/spec.hpp"
 
@@ -259,6 +260,7 @@ class PredictiveEncoder {
   // One intra plane for frames_[begin] and inter planes for the rest of [begin, end).
   void encodeGroup(size_t begin, size_t end) {
     state_.beginIntra(options_.fapQuant, frames_[begin].mask);
+    if (trellis()) planGroup(begin, end);
     const std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes =
         chooseRanges(begin, end);
 
@@ -278,19 +280,37 @@ class PredictiveEncoder {
       });
     }
     state_.resetModels();
-    encodeData(frames_[begin], true);
+    encodeData(frames_[begin], true, 0);
     output_.stats.frameBits.push_back(out_.bitCount() - start);
     ++output_.stats.intraFrames;
 
     for (size_t k = begin + 1; k < end; ++k) {
       start = out_.bitCount();
       writePlaneHeader(out_, {false, std::nullopt, std::nullopt, framesToSkipAfter(frames_, k)});
-      encodeData(frames_[k], false);
+      encodeData(frames_[k], false, k - begin);
       output_.stats.frameBits.push_back(out_.bitCount() - start);
     }
   }
 
  private:
+  bool trellis() const { return options_.rdoTrellis && options_.rdoLambda > 0; }
+
+  // Trellis quantisation (fba_trellis.hpp) of every masked low-level FAP over the group.
+  void planGroup(size_t begin, size_t end) {
+    std::vector<int> sides;
+    for (uint32_t code = 0; code <= kMaxRangeCode; ++code) {
+      const int levels = levelsOf(code, options_.fapQuant);
+      if (sides.empty() || levels > sides.back()) sides.push_back(levels);
+    }
+    std::vector<int64_t> values(end - begin);
+    for (size_t i = 2; i < kFapCount; ++i) {
+      if (!state_.mask[i]) continue;
+      for (size_t k = begin; k < end; ++k) values[k - begin] = frames_[k].values[i];
+      plan_[i] = trellisQuantise({values, state_.steps[i], rdo_[i].weight, options_.rdoLambda,
+                                  levelsOf(kMaxRangeCode, options_.fapQuant), sides});
+    }
+  }
+
   static bool anyCode(const std::array<std::optional<uint32_t>, kFapCount>& codes) {
     return std::any_of(codes.begin(), codes.end(), [](const auto& c) { return c.has_value(); });
   }
@@ -310,7 +330,7 @@ class PredictiveEncoder {
     }
     // With RDO quantisation its loop runs too (on a static rate estimate: the models do not
     // exist yet), and the ranges hold what either loop needs.
-    const int loops = options_.rdoLambda > 0 ? 2 : 1;
+    const int loops = trellis() ? 0 : options_.rdoLambda > 0 ? 2 : 1;
     for (int loop = 0; loop < loops; ++loop) {
       std::array<int64_t, kFapCount> reconstruction{};
       for (size_t k = begin; k < end; ++k) {  // frame by frame: the frames lie in a row
@@ -329,7 +349,15 @@ class PredictiveEncoder {
         }
       }
     }
-    if (options_.rdoLambda > 0) {
+    if (trellis()) {
+      for (size_t i : masked) {
+        const TrellisLevels& plan = plan_[i];
+        needMax[0][i] = std::max<int64_t>(plan.levels[0], 0);
+        needMin[0][i] = std::min<int64_t>(plan.levels[0], 0);
+        needMax[1][i] = plan.interMax;
+        needMin[1][i] = plan.interMin;
+      }
+    } else if (options_.rdoLambda > 0) {
       for (size_t i : masked) shrinkInterRange(begin, end, i, cap, needMin[1][i], needMax[1][i]);
     }
     const double codeBits = markerBitsPerFlag() + 5.0 * static_cast<double>(masked.size());
@@ -440,7 +468,8 @@ class PredictiveEncoder {
     return static_cast<int>(level);
   }
 
-  void encodeData(const FapFrame& frame, bool intra) {
+  // `t`: the frame's index in its group (for the trellis's levels).
+  void encodeData(const FapFrame& frame, bool intra, size_t t) {
     ArithmeticEncoder coder(out_);
     const std::array<int, kVisemeExpressionFields> values = visemeExpressionValues(frame);
     const auto fields = [&](size_t first, size_t last) {
@@ -472,7 +501,12 @@ class PredictiveEncoder {
       const int64_t prediction = intra ? 0 : state_.previous[i];
       const int64_t residual = frame.values[i] - prediction;
       int64_t wanted = quantise(residual, step);
-      if (!intra && options_.rdoLambda > 0) {
+      if (trellis()) {
+        if (!intra && std::llabs(wanted) > levelsOf(kMaxRangeCode, state_.fapQuant)) {
+          ++output_.stats.clippedValues;
+        }
+        wanted = plan_[i].levels[t];
+      } else if (!intra && options_.rdoLambda > 0) {
         const LevelRange& range = state_.interRange[i];
         const AdaptiveModel& model = state_.interModel[i];
         const auto bits = [&](int64_t l) {  // rdoLevel asks only for levels in the range
@@ -508,8 +542,9 @@ class PredictiveEncoder {
   EncodeOutput& output_;
   BitWriter& out_;
   PredictiveState state_;
-  std::array<RdoFap, kFapCount> rdo_{};  // when rdoLambda > 0
-  std::vector<int> histogram_;           // shrinkInterRange's, kept to spare allocations
+  std::array<RdoFap, kFapCount> rdo_{};        // when rdoLambda > 0
+  std::vector<int> histogram_;                 // shrinkInterRange's, kept to spare allocations
+  std::array<TrellisLevels, kFapCount> plan_;  // the group's levels, with rdoTrellis
 };
 
 }  // namespace

@@ -48,6 +48,15 @@ struct FbaEncodeOptions {
   // the stream (the robust PSNR's normalisation) and bits what the FAP's adaptive model would
   // spend on it now (docs/rate-distortion.md, "Predictive mode: RDO quantisation").
   double rdoLambda = 0.0;
+  // With rdoLambda > 0: choose each FAP's levels over a whole group of planes at once (a
+  // trellis: a level moves every later residual) together with its inter range, by the same
+  // cost with bits the adaptive model's code length for the levels (docs/rate-distortion.md,
+  // "Predictive mode: trellis quantisation"). Slower; the syntax is the same.
+  bool rdoTrellis = false;
+  // Predictive mode: leave out of the FAP mask the low-level FAPs that are 0 in every frame
+  // that sends them. A FAP never sent is the neutral face's, 0, so a decoder shows the same
+  // face; the reconstruction lacks those FAPs (they were only ever 0).
+  bool maskZeroFaps = false;
   // Wrap fba_object in visual_object_sequence and visual_object headers (profile Simple Face
   // Animation level 1, visual_object_type FBA), as a 14496-2 elementary stream starts.
   bool visualObjectSequence = false;
