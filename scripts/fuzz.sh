@@ -8,11 +8,13 @@
 # summary line per target gives executions, coverage (cov: edges, ft: features), inputs added
 # and findings. Before fuzzing, each target replays tests/fuzz_regressions/<name>/.
 #
-# Usage: scripts/fuzz.sh [--minutes N] [--runs N] [--jobs N] [TARGET...]
+# Usage: scripts/fuzz.sh [--minutes N] [--runs N] [--jobs N] [--max-len N] [TARGET...]
 #   --minutes N  time per target (default 10); the campaign stops a target at N minutes or
 #                at --runs executions, whichever comes first
 #   --runs N     executions per target (default: no bound but time)
 #   --jobs N     fork-mode workers per target (default 1)
+#   --max-len N  largest input libFuzzer makes (default: the table below, else libFuzzer's own,
+#                the larger of 4096 and the largest seed)
 #   TARGET       names as in core/fuzz/CMakeLists.txt (vrml, fap, ...); default all
 # Output: build/fuzz/campaign/<name>.log, artifacts in build/fuzz/campaign/artifacts/<name>/,
 # the summary also as a Markdown table in build/fuzz/campaign/summary.md. Exits non-zero if
@@ -23,13 +25,15 @@ cd "$(dirname "$0")/.."
 minutes=10
 runs=-1
 jobs=1
+max_len=
 targets=()
 while (($#)); do
   case $1 in
     --minutes) minutes=$2; shift 2 ;;
     --runs) runs=$2; shift 2 ;;
     --jobs) jobs=$2; shift 2 ;;
-    -h | --help) sed -n '3,19p' "$0" | cut -c3-; exit 0 ;;
+    --max-len) max_len=$2; shift 2 ;;
+    -h | --help) sed -n '3,21p' "$0" | cut -c3-; exit 0 ;;
     -*) echo "fuzz.sh: unknown option $1" >&2; exit 2 ;;
     *) targets+=("$1"); shift ;;
   esac
@@ -39,6 +43,12 @@ if ((${#targets[@]} == 0)); then
   mapfile -t targets < <(sed -n '/^set(MPEG4FACE_FUZZ_TARGETS/,/^)/p' core/fuzz/CMakeLists.txt |
     sed '1d;$d' | tr -d ' ')
 fi
+
+# Targets whose seeds are larger than the inputs worth mutating: libFuzzer would otherwise
+# grow inputs to the largest seed. fap: the Xface seeds are 31 kB (each execution then parses,
+# writes and parses ~150 frames); 4096 bytes hold 20 frames of all 68 FAPs, past every rule of
+# the grammar. A longer seed is read truncated to its first max_len bytes.
+declare -A default_max_len=([fap]=4096)
 
 build=build/fuzz
 CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPEG4FACE_FUZZ=ON \
@@ -78,11 +88,15 @@ for name in "${targets[@]}"; do
 
   bound="$minutes min"
   ((runs < 0)) || bound+=" or $runs executions"
-  echo "$name: fuzzing for up to $bound (log: $log)"
+  len=${max_len:-${default_max_len[$name]:-}}
+  len_flag=()
+  [[ -z $len ]] || len_flag=(-max_len="$len")
+  echo "$name: fuzzing for up to $bound${len:+, inputs up to $len bytes} (log: $log)"
   # ASan's leak check at exit is off: fork mode's workers are killed at the time limit.
   "$fuzzer" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
     -max_total_time=$((minutes * 60)) -runs="$runs" -rss_limit_mb=2048 -timeout=10 \
-    -artifact_prefix="$artifacts/" -print_final_stats=1 "$work" >"$log" 2>&1 || true
+    "${len_flag[@]}" -artifact_prefix="$artifacts/" -print_final_stats=1 "$work" >"$log" 2>&1 ||
+    true
 
   # Fork mode reports "#<executions>: cov: <edges> ft: <features> corp: ..." after each job.
   last=$(grep -E '^#[0-9]+: cov: ' "$log" | tail -n 1 || true)

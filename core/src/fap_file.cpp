@@ -48,8 +48,16 @@ size_t valueCount(int fap) {
   return 1;
 }
 
-std::string fapField(int fap) {
-  return "FAP " + std::to_string(fap) + " " + std::string(fapInfo(fap).name);
+// Built once: the reader names a field with each value it parses.
+const std::string& fapField(int fap) {
+  static const auto names = [] {
+    std::array<std::string, kFapCount> n;
+    for (int f = 1; f <= kFapCount; ++f)
+      n[static_cast<size_t>(f - 1)] =
+          "FAP " + std::to_string(f) + " " + std::string(fapInfo(f).name);
+    return n;
+  }();
+  return names[static_cast<size_t>(fap - 1)];
 }
 std::string fapField(int fap, const HighLevelField& f) {
   return "FAP " + std::to_string(fap) + " " + f.name;
@@ -174,9 +182,10 @@ class FapParser {
     for (int fap = 1; fap <= kFapCount; ++fap) {
       if (mask_[static_cast<size_t>(fap - 1)]) expected += valueCount(fap);
     }
-    const std::string maskNote = "the mask on line " + std::to_string(maskLine_) + " sends " +
-                                 std::to_string(mask_.count()) + " FAPs, " +
-                                 std::to_string(expected) + " values";
+    const auto maskNote = [&] {
+      return "the mask on line " + std::to_string(maskLine_) + " sends " +
+             std::to_string(mask_.count()) + " FAPs, " + std::to_string(expected) + " values";
+    };
     const size_t found = tokens_.size() - 1;
     if (found < expected) {
       // Name the first FAP (and field of FAP 1 / 2) whose value is missing.
@@ -191,11 +200,11 @@ class FapParser {
       const std::string field = fap == 1   ? fapField(fap, kVisemeFields[k])
                                 : fap == 2 ? fapField(fap, kExpressionFields[k])
                                            : fapField(fap);
-      fail(field, "value missing: " + maskNote + ", this line has " + std::to_string(found) +
+      fail(field, "value missing: " + maskNote() + ", this line has " + std::to_string(found) +
                       " after the frame number");
     }
     if (found > expected) {
-      fail("values", "too many values: " + maskNote + ", this line has " + std::to_string(found) +
+      fail("values", "too many values: " + maskNote() + ", this line has " + std::to_string(found) +
                          " after the frame number");
     }
 

@@ -302,8 +302,9 @@ PcaHeader readPcaHeader(BitReader& in) {
     PcaHeaderGroup h;
     h.group = g.number;
     const std::string where = " (FAP group " + std::to_string(g.number) + ")";
+    const std::string maskElement = "pca_fap_mask" + where;
     for (int fap = g.firstFap; fap <= g.lastFap; ++fap) {
-      if (in.readBit("pca_fap_mask" + where)) h.faps.push_back(fap);
+      if (in.readBit(maskElement)) h.faps.push_back(fap);
     }
     if (h.faps.empty()) continue;
     const uint64_t at = in.position();
@@ -313,11 +314,13 @@ PcaHeader readPcaHeader(BitReader& in) {
                 std::to_string(k) + " components of " + std::to_string(h.faps.size()) + " FAPs");
     }
     h.components = static_cast<int>(k);
+    const std::string meanElement = "pca_mean" + where;
     for (size_t i = 0; i < h.faps.size(); ++i) {
-      h.mean.push_back(readSe(in, "pca_mean" + where, kMaxFbaValue));
+      h.mean.push_back(readSe(in, meanElement, kMaxFbaValue));
     }
+    const std::string basisElement = "pca_basis" + where;
     for (size_t i = 0; i < h.faps.size() * k; ++i) {
-      h.basis.push_back(readSe(in, "pca_basis" + where, kMaxPcaBasisEntry));
+      h.basis.push_back(readSe(in, basisElement, kMaxPcaBasisEntry));
     }
     header.groups.push_back(std::move(h));
   }
