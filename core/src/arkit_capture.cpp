@@ -415,6 +415,7 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
   Eigen::VectorXd weights(kLiveLinkChannelCount);
   std::vector<bool> locked(static_cast<std::size_t>(columns));
   int source = 0;  // the capture frame at or before the output frame's time
+  const int jawChannel = jawOpenChannel();
   for (int f = 0; f < frames; ++f) {
     const double time = start + f / options.fps;
     while (source + 1 < capture.frameCount() &&
@@ -441,7 +442,7 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
       if (v > 0) b -= v * face.angleRhs.col(static_cast<Eigen::Index>(c));
     }
     std::fill(locked.begin(), locked.end(), false);
-    const double jaw = face.jawPerWeight * weights[jawOpenChannel()];
+    const double jaw = face.jawPerWeight * weights[jawChannel];
     if (face.jawColumn >= 0) {
       b -= jaw * face.fapGram.col(face.jawColumn);
       locked[static_cast<std::size_t>(face.jawColumn)] = true;

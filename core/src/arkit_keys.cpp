@@ -87,11 +87,6 @@ TransformChannel rotationChannel(int transform, const Eigen::Quaterniond& q) {
 }
 
 // FAPs sent together to move one part of the face: a lip (inner and outer contour), a
-// mouth corner, a brow, both lips forwards, both cheeks or nose wings. ARKit shapes move a
-// whole lip or brow, so the key of FAP 10 (2.8) made from them moves the whole lower lip,
-// and a viseme or stream that sends 5, 10, 11, 52, 57 and 58 together would lower it six
-// times over. Their keys are shared out among the group's points instead (docs/arkit.md).
-// FAPs sent together to move one part of the face: a lip (inner and outer contour), a
 // mouth corner, both lips forwards, a brow, the brows squeezed, both cheeks or nose wings.
 // ARKit shapes move a whole lip or brow, so the key of FAP 10 (2.8) made from them moves
 // the whole lower lip, and a stream that sends 5, 10, 11, 52, 57 and 58 together (as the
@@ -118,13 +113,13 @@ std::span<const int> siblingFaps(int fap) {
   return {};
 }
 
-// The FAPs of the areas several FAPs share (the lips, chin, cheeks, brows and nose).
 // The powers of the partitions: inverse-square over the area gives the viseme and expression
 // keys each FAP's own motion; among siblings the much gentler 1/sqrt(distance) keeps the keys
 // written broad enough for the capture solver to fit ARKit's shapes with (docs/arkit.md).
 constexpr double kAreaPower = 2.0;
 constexpr double kSiblingPower = 0.5;
 
+// The FAPs of the areas several FAPs share (the lips, chin, cheeks, brows and nose).
 std::vector<int> areaFaps() {
   std::vector<int> faps;
   for (int f = 4; f <= 64; ++f) {
@@ -282,6 +277,16 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
   // (addHighLevelKeys).
   const bool highLevel = (options.visemes || options.expressions) && !out.mapping.keys.empty();
   const std::vector<int> area = areaFaps();
+  // Shares per mesh and FAP set, made once: keyed by the set's storage (`area` or a group of
+  // kSiblingFaps).
+  std::map<std::pair<int, const int*>, FeaturePointShares> shares;
+  const auto sharesOf = [&](int mesh, std::span<const int> faps,
+                            double power) -> const FeaturePointShares& {
+    const auto key = std::make_pair(mesh, faps.data());
+    auto it = shares.find(key);
+    if (it == shares.end()) it = shares.try_emplace(key, out.head, mesh, faps, power).first;
+    return it->second;
+  };
   for (const ArkitFapKey& key : out.mapping.keys) {
     const std::string name =
         formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)});
@@ -307,11 +312,11 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
     for (auto& [m, d] : meshes) {
       if (highLevel) {
         Points3 local = d;
-        if (m == pointMesh) FeaturePointShares(out.head, m, area, kAreaPower).localise(key.fap, local);
+        if (m == pointMesh) sharesOf(m, area, kAreaPower).localise(key.fap, local);
         localisedAdded[static_cast<std::size_t>(m)].push_back({name, std::move(local)});
       }
       if (m == pointMesh) {
-        FeaturePointShares(out.head, m, siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
+        sharesOf(m, siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
       }
       added[static_cast<std::size_t>(m)].push_back({name, std::move(d)});
     }
