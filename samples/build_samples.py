@@ -70,6 +70,14 @@ ALIGNMENT = 0.8
 # sneer sends FAP 55 at -900), and a unit worth -75 driven there is 12 times itself, a
 # crumpled nose.
 COVERAGE = 0.5
+# MakeHuman's expression units are sculpted for weights 0..1 (its sliders stop at 1), and
+# past its value a unit used as a key would be extrapolated: a stream's blink sends FAP 19 /
+# 20 at 1024, one IRISD0, while MakeHuman's lids meet at 801, so the upper lid went through
+# the lower one (skin edges 2.3 times their length); disgust sends the nose wings (61 / 62)
+# at 50 and hate at 100, the dilatation unit is worth 15, and the nostrils went through
+# themselves. A second copy of each unit at this many times its value makes the interval
+# past the unit flat: a closed lid stays closed, a flared nostril stays as MakeHuman made it.
+UNIT_HELD = 2
 
 
 def candide3() -> mpeg4face.FaceModel:
@@ -282,8 +290,27 @@ def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
     cloned = mpeg4face.clone_face(source, head)
     for warning in cloned["warnings"]:
         print(f"clone: {warning}", file=sys.stderr)
-    return {c["name"]: c["displacements"] for c in cloned["copies"]
+    keys = {c["name"]: c["displacements"] for c in cloned["copies"]
             if c["fap"] not in EYEBALL_FAPS}
+    lashes_follow_skin(head, keys)
+    return keys
+
+
+# Each eyelash vertex moves as the mean of this many skin vertices nearest to it.
+LASH_NEIGHBOURS = 4
+
+
+def lashes_follow_skin(head: mpeg4face.FaceModel, keys: Keys) -> None:
+    """MakeHuman's eyelashes are strips standing out of the lid margins, a surface the source
+    face does not have: cloned, a strip's root and tip land on different parts of the
+    source's lids and the strip tears (a lifted cheek tore the lower lashes). So each lash
+    vertex takes the cloned motion of the skin nearest to it."""
+    skin, lashes = head.find_mesh("skin"), head.find_mesh("eyelashes")
+    at = head.meshes[lashes].coord
+    distances = np.linalg.norm(at[:, None, :] - head.meshes[skin].coord[None, :, :], axis=2)
+    nearest = np.argsort(distances, axis=1)[:, :LASH_NEIGHBOURS]
+    for displacements in keys.values():
+        displacements[lashes] = displacements[skin][nearest].mean(axis=1)
 
 
 def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
@@ -307,6 +334,15 @@ def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
         for name in same:
             del keys[name]
         keys[m.key] = units[m.unit]
+
+
+def hold_units(keys: Keys, units: dict[str, list[np.ndarray]],
+               mappings: list[UnitMapping]) -> None:
+    """Each used unit's key held past its value (UNIT_HELD)."""
+    for m in mappings:
+        if m.fap and m.used:
+            keys[mpeg4face.format_shape_key_name(m.fap, UNIT_HELD * m.value, 0,
+                                                 f"mh_{m.unit}_held")] = units[m.unit]
 
 
 def quaternion(axis: tuple[int, int, int], angle: float) -> list[float]:
@@ -380,6 +416,7 @@ def main(argv: list[str] | None = None) -> int:
                                  fap_responses(head, fapu, units[path.stem])))
     keys = cloned_keys(clone_source(ict), head)
     replace_with_units(keys, units, mappings)
+    hold_units(keys, units, mappings)
     head = with_keys(head, keys, poses(head, keys))
     mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
     mpeg4face.write_file_atomically(args.out / "makehuman_units.json", (

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "mpeg4face/arkit.hpp"
+#include "mpeg4face/arkit_capture.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fap_stream.hpp"
 #include "mpeg4face/fat_evaluate.hpp"
@@ -179,8 +180,72 @@ class FeaturePointShares {
   std::vector<double> total_;
 };
 
+// The nearest combination of a head's ARKit shapes (weights 0..1) to a motion of its meshes:
+// a viseme or expression key is made of the shapes, not of the FAP keys it was evaluated
+// through (docs/arkit.md, "Viseme and expression keys"). The eye shapes are left out: an
+// expression's eyeball turn is a pose.
+constexpr double kProjectionWeightCost = 0.05;
+class ArkitProjection {
+ public:
+  ArkitProjection(const FaceModel& head, const ArkitShapes& shapes) : head_(head) {
+    offset_.push_back(0);
+    for (const IndexedFaceSet& mesh : head.meshes)
+      offset_.push_back(offset_.back() + 3 * mesh.vertexCount());
+    for (const ArkitShape& shape : shapes.shapes) {
+      if (!isArkitEyeShape(shape.ref.shape)) shapes_.push_back(&shape);
+    }
+    basis_ = Eigen::MatrixXd::Zero(offset_.back(), static_cast<Eigen::Index>(shapes_.size()));
+    for (std::size_t c = 0; c < shapes_.size(); ++c) {
+      for (const ArkitTarget& t : shapes_[c]->targets) {
+        basis_.col(static_cast<Eigen::Index>(c))
+            .segment(offset_[static_cast<std::size_t>(t.mesh)],
+                     3 * head.meshes[static_cast<std::size_t>(t.mesh)].vertexCount()) =
+            target(t).reshaped<Eigen::RowMajor>();
+      }
+    }
+    gram_ = basis_.transpose() * basis_;
+    // Each weight costs kProjectionWeightCost of an average shape's squared motion: shapes
+    // overlap (a shape and its halves; jawOpen and mouthLowerDown), and without a cost the
+    // answer is one of many, often with some shapes at 1, which a viseme and an expression
+    // added push past it (a fold under the lower lip); with it the motion is shared.
+    gram_.diagonal().array() += kProjectionWeightCost * gram_.trace() /
+                                static_cast<double>(std::max<Eigen::Index>(1, gram_.rows()));
+  }
+  // `motion` per mesh (mesh space) -> the shapes' combination per mesh.
+  std::vector<Points3> project(const std::vector<Points3>& motion) const {
+    Eigen::VectorXd stacked(offset_.back());
+    for (std::size_t m = 0; m < motion.size(); ++m)
+      stacked.segment(offset_[m], offset_[m + 1] - offset_[m]) =
+          motion[m].reshaped<Eigen::RowMajor>();
+    const auto n = static_cast<Eigen::Index>(shapes_.size());
+    Eigen::VectorXd weights = Eigen::VectorXd::Zero(n);
+    boundedLeastSquares(gram_, basis_.transpose() * stacked, Eigen::VectorXd::Zero(n),
+                        Eigen::VectorXd::Ones(n), weights, {});
+    std::vector<Points3> out;
+    for (const Points3& m : motion) out.push_back(Points3::Zero(m.rows(), 3));
+    for (std::size_t c = 0; c < shapes_.size(); ++c) {
+      for (const ArkitTarget& t : shapes_[c]->targets)
+        out[static_cast<std::size_t>(t.mesh)] += weights[static_cast<Eigen::Index>(c)] * target(t);
+    }
+    return out;
+  }
+
+ private:
+  const Points3& target(const ArkitTarget& t) const {
+    return head_.meshes[static_cast<std::size_t>(t.mesh)]
+        .morphTargets[static_cast<std::size_t>(t.target)]
+        .displacements;
+  }
+  const FaceModel& head_;
+  std::vector<const ArkitShape*> shapes_;
+  std::vector<Eigen::Index> offset_;  // of each mesh's rows in the stacked motion
+  Eigen::MatrixXd basis_, gram_;
+};
+
 // viseme1..14 and expression1..6: each alone from the neutral face, with the FAPs the FIT
-// preset gives it (its own frame: nothing held from another), as keys and poses.
+// preset gives it (its own frame: nothing held from another), evaluated through the FAP keys
+// localised over the area and made of the ARKit shapes nearest to that motion, as keys and
+// poses.
 void addHighLevelKeys(ArkitKeys& out, const FaceModel& localised, const ArkitKeysOptions& options) {
   const ShapeKeyFace generated = faceFromShapeKeys(localised);
   for (const std::string& w : generated.warnings) out.warnings.push_back("tables: " + w);
@@ -215,6 +280,7 @@ void addHighLevelKeys(ArkitKeys& out, const FaceModel& localised, const ArkitKey
     low = std::min(low, key.amplitude);
     high = std::max(high, key.amplitude);
   }
+  const ArkitProjection projection(out.head, out.shapes);
   std::vector<std::vector<MorphTarget>> added(out.head.meshes.size());
   std::vector<MorphWeightAnimation> poses;
   for (auto& [name, frame] : frames) {
@@ -230,9 +296,12 @@ void addHighLevelKeys(ArkitKeys& out, const FaceModel& localised, const ArkitKey
       resolved.set(f, std::clamp(value, low, high));
     }
     const FatState shown = evaluator.evaluate(resolved);
+    std::vector<Points3> motion;
+    for (std::size_t m = 0; m < added.size(); ++m)
+      motion.push_back(shown.coord[m] - neutral.coord[m]);
+    std::vector<Points3> made = projection.project(motion);
     for (std::size_t m = 0; m < added.size(); ++m) {
-      Points3 d = shown.coord[m] - neutral.coord[m];
-      if ((d.array() != 0).any()) added[m].push_back({name, std::move(d)});
+      if ((made[m].array() != 0).any()) added[m].push_back({name, std::move(made[m])});
     }
     MorphWeightAnimation pose{name, {}, {}};
     for (std::size_t t = 0; t < shown.transforms.size(); ++t) {

@@ -38,12 +38,6 @@ constexpr double kWeightCost = 0.01;
 // Transform centre within this share of the motion.
 constexpr double kMaxRotationFitError = 0.25;
 
-// The shapes that belong to the eye FAPs only (the eyeballs' turns and the pupils).
-bool isEyeShape(int shape) {
-  const std::string_view name = arkitKnownShapeNames()[static_cast<std::size_t>(shape)];
-  return name.starts_with("eyeLook") || name.starts_with("pupilDilate");
-}
-
 std::optional<Eigen::Vector3d> directionOf(std::string_view motion) {
   if (motion == "up") return Eigen::Vector3d::UnitY();
   if (motion == "down") return -Eigen::Vector3d::UnitY();
@@ -510,7 +504,7 @@ ArkitMapping mapArkitToFaps(const FaceModel& head, const ArkitShapes& shapes,
     for (std::size_t s = 0; s < shapes.shapes.size(); ++s) {
       const ArkitShapeRef& ref = shapes.shapes[s].ref;
       const FaceSide shapeSide = arkitShapeSide(ref);
-      if (isEyeShape(ref.shape)) continue;
+      if (isArkitEyeShape(ref.shape)) continue;
       if (side != FaceSide::Centre && shapeSide != FaceSide::Centre && shapeSide != side) continue;
       columns.push_back(static_cast<int>(s));
     }

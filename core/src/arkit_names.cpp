@@ -62,6 +62,11 @@ std::span<const std::string_view> arkitShapeNames() {
 
 std::span<const std::string_view> arkitKnownShapeNames() { return kKnownNames; }
 
+bool isArkitEyeShape(int shape) {
+  const std::string_view name = kKnownNames[static_cast<std::size_t>(shape)];
+  return name.starts_with("eyeLook") || name.starts_with("pupilDilate");
+}
+
 std::optional<ArkitShapeRef> arkitShapeIndex(std::string_view targetName) {
   // A side suffix after a separator: _L, .R, -Left, " right".
   FaceSide side = FaceSide::Centre;

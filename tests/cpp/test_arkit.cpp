@@ -291,7 +291,7 @@ TEST(Arkit, KeysAreInTheGrammarAndReplaceOldOnes) {
   EXPECT_EQ(face.copies, names.size());
 }
 
-TEST(Arkit, VisemeKeysAreEachAloneFromTheNeutral) {
+TEST(Arkit, VisemeKeysAreShapesNearEachVisemeAloneFromTheNeutral) {
   const ArkitKeys keys = arkitFapKeys(arkitTestHeadWithShapes());
   const std::vector<MorphTarget>& targets = keys.head.meshes[0].morphTargets;
   const int chin = keys.head.featurePoints.at("2.1").vertex;
@@ -318,12 +318,24 @@ TEST(Arkit, VisemeKeysAreEachAloneFromTheNeutral) {
         inverseSquare.contains(id)) {
       continue;
     }
-    inverseSquare[id] = 1 / (keys.head.meshes[0].coord.row(b->second.vertex) - chinAt).squaredNorm();
+    inverseSquare[id] =
+        1 / (keys.head.meshes[0].coord.row(b->second.vertex) - chinAt).squaredNorm();
     total += inverseSquare[id];
   }
   const auto share = [&](int f) {
     return isArea(f) ? inverseSquare.at(std::string(fapInfo(f).featurePoint)) / total : 1.0;
   };
+  // The shapes' displacements on the mesh, one column each.
+  const ArkitShapes found = findArkitShapes(keys.head);
+  Eigen::MatrixXd shapes = Eigen::MatrixXd::Zero(3 * keys.head.meshes[0].vertexCount(),
+                                                 static_cast<Eigen::Index>(found.shapes.size()));
+  for (std::size_t c = 0; c < found.shapes.size(); ++c) {
+    for (const ArkitTarget& t : found.shapes[c].targets) {
+      if (t.mesh == 0)
+        shapes.col(static_cast<Eigen::Index>(c)) =
+            targets[static_cast<std::size_t>(t.target)].displacements.reshaped<Eigen::RowMajor>();
+    }
+  }
   const FitTable fit = visemeFitTable();
   int moving = 0;
   for (int v = 1; v <= 14; ++v) {
@@ -343,15 +355,23 @@ TEST(Arkit, VisemeKeysAreEachAloneFromTheNeutral) {
       const auto it = keyed.find({f, state.value(f) > 0});
       if (it == keyed.end()) continue;
       const auto [amplitude, motion] = it->second;
-      expected += std::min(1.0, static_cast<double>(state.value(f)) / amplitude) * motion * share(f);
+      expected +=
+          std::min(1.0, static_cast<double>(state.value(f)) / amplitude) * motion * share(f);
     }
     const std::string name = "viseme" + std::to_string(v);
-    double moved = 0;
-    for (const MorphTarget& t : targets) {
-      if (t.name == name) moved = t.displacements(chin, 1);
-    }
-    EXPECT_NEAR(moved, expected, 1e-6) << name;
-    moving += expected != 0;
+    const auto key = std::find_if(targets.begin(), targets.end(),
+                                  [&](const MorphTarget& t) { return t.name == name; });
+    if (expected == 0) continue;
+    ASSERT_NE(key, targets.end()) << name;
+    // The key is made of the head's ARKit shapes (the combination nearest to that motion
+    // over the whole head, weights 0..1: docs/arkit.md), so the chin moves the same way as
+    // through the FAP keys but not by the same amount: within 60% on this test head, whose
+    // five shapes fit a viseme only roughly (the sample heads' visemes: test_samples.py).
+    EXPECT_NEAR(key->displacements(chin, 1), expected, 0.6 * std::abs(expected)) << name;
+    const Eigen::VectorXd made = key->displacements.reshaped<Eigen::RowMajor>();
+    EXPECT_LT((shapes * shapes.colPivHouseholderQr().solve(made) - made).norm(), 1e-9 * made.norm())
+        << name << " is not a combination of the shapes";
+    ++moving;
   }
   EXPECT_GT(moving, 3);
 }

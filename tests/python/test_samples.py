@@ -109,14 +109,18 @@ def test_mapped_units_replace_the_cloned_keys_of_their_fap_and_sign(built, head)
     of = {}
     for p in parsed:
         of.setdefault(p["fap"], []).append(p)
+    # Each unit held past its value (build_samples.UNIT_HELD).
     assert {p["name"] for p in of[19]} == {"fap19_mh_eye-left-closure@801",
-                                          "fap19_mh_eye-left-opened-up@-277"}
+                                          "fap19_mh_eye-left-closure_held@1602",
+                                          "fap19_mh_eye-left-opened-up@-277",
+                                          "fap19_mh_eye-left-opened-up_held@-554"}
     # MakeHuman's sneer fits FAP 55 at -75, a tenth of the cloned key: the cloned keys stay.
     sneer = mappings["nose-left-elevation"]
     assert sneer["fap"] == 55 and not sneer["used"] and "not used" in sneer["reason"]
     assert of[55] and not any("_mh_" in p["name"] for p in of[55])
     # FAP 61 (the nose wing) has no cloned key: the unit is it.
-    assert {p["name"] for p in of[61]} == {"fap61_mh_nose-left-dilatation@15"}
+    assert {p["name"] for p in of[61]} == {"fap61_mh_nose-left-dilatation@15",
+                                          "fap61_mh_nose-left-dilatation_held@30"}
     assert not set(of) & set(build_samples.EYEBALL_FAPS)  # eyeballs turn as poses
 
 
@@ -151,6 +155,21 @@ def test_a_mapped_key_is_the_makehuman_unit_itself(head):
     assert checked == len(offsets)
 
 
+def test_a_unit_holds_past_its_value(head):
+    """A blink sent at 1024 (one IRISD0) closes the lid as MakeHuman's closure unit (801)
+    does, no further: past a unit's value its key holds (docs/samples.md)."""
+    closed, neutral = evaluate(head, {19: 801, 20: 0})
+    blink, _ = evaluate(head, {19: 1024, 20: 0})
+    half, _ = evaluate(head, {19: 400, 20: 0})
+    for i in range(len(head.meshes)):
+        np.testing.assert_allclose(blink["coord"][i], closed["coord"][i], atol=1e-9)
+    lid = head.feature_points["3.1"]
+    moved = closed["coord"][lid.mesh][lid.vertex] - neutral["coord"][lid.mesh][lid.vertex]
+    assert np.linalg.norm(moved) > 0
+    np.testing.assert_allclose(half["coord"][lid.mesh][lid.vertex] - neutral["coord"][lid.mesh][lid.vertex],
+                               moved * 400 / 801, rtol=1e-6)
+
+
 def test_eyeballs_and_head_turn_about_their_centres(head):
     eye = head.find_transform("eye_left")
     state, neutral = evaluate(head, {23: 10000})  # 0.1 rad to the face's left
@@ -178,18 +197,26 @@ def test_the_jaw_lowers_the_teeth_and_tongue_with_the_chin(head):
     np.testing.assert_allclose(state["translation"][upper], neutral["translation"][upper])
 
 
+def apart_from_neighbours(mesh: mpeg4face.IndexedFaceSet, d: np.ndarray) -> np.ndarray:
+    """Per vertex, how far its displacement is from the mean of its neighbours'."""
+    index = np.asarray(mesh.coord_index)
+    ends = np.flatnonzero(index < 0)
+    edges = np.unique(np.sort(np.concatenate([
+        np.stack([face, np.roll(face, -1)], axis=1)
+        for face in np.split(index, ends + 1)[:-1] for face in [face[:-1]]]), axis=1), axis=0)
+    degree = np.bincount(edges.ravel(), minlength=mesh.vertex_count)[:, None]
+    mean = np.zeros_like(d)
+    np.add.at(mean, edges[:, 0], d[edges[:, 1]])
+    np.add.at(mean, edges[:, 1], d[edges[:, 0]])
+    return np.linalg.norm(d - mean / np.maximum(degree, 1), axis=1)
+
+
 def test_no_lip_key_tears_a_vertex_from_its_neighbours(head):
     """The mouth bag behind MakeHuman's lips is cloned with the lip it belongs to: no vertex
     of a viseme or lip key moves apart from its neighbours' mean by more than 3/4 of the
     key's peak (a vertex of the lower lip's inner side once rose with the upper lip, a spike
     up from the lower lip on every open mouth)."""
     skin = head.meshes[head.find_mesh("skin")]
-    index = np.asarray(skin.coord_index)
-    ends = np.flatnonzero(index < 0)
-    edges = np.unique(np.sort(np.concatenate([
-        np.stack([face, np.roll(face, -1)], axis=1)
-        for face in np.split(index, ends + 1)[:-1] for face in [face[:-1]]]), axis=1), axis=0)
-    degree = np.bincount(edges.ravel(), minlength=skin.vertex_count)[:, None]
     lip_faps = {3, 16, 17, *range(4, 14), *range(51, 61)}
     checked = 0
     for target in skin.morph_targets:
@@ -197,10 +224,7 @@ def test_no_lip_key_tears_a_vertex_from_its_neighbours(head):
         if not (target.name.startswith("viseme") or parsed and parsed["fap"] in lip_faps):
             continue
         d = np.asarray(target.displacements)
-        mean = np.zeros_like(d)
-        np.add.at(mean, edges[:, 0], d[edges[:, 1]])
-        np.add.at(mean, edges[:, 1], d[edges[:, 0]])
-        apart = np.linalg.norm(d - mean / np.maximum(degree, 1), axis=1)
+        apart = apart_from_neighbours(skin, d)
         assert apart.max() <= 0.75 * np.linalg.norm(d, axis=1).max(), \
             (target.name, int(apart.argmax()))
         checked += 1
@@ -366,6 +390,29 @@ def test_sample_viseme_keys_part_the_lips(sample, viseme):
     name = f"viseme{viseme}"
     moved = {p: key_displacement(sample, name, p) for p in ("2.2", "2.3")}
     expect_viseme_gap(viseme, inner_lip_gap(sample, moved))
+
+
+# The most a viseme or expression key may crease the mouth: a vertex within 0.6 MW0 of the
+# mouth's centre apart from its neighbours' mean, in MNS0. Made from the localised FAP keys
+# the open vowels' lower lip came to a point at 8.2 (0.24 on ICT, 0.26 on MakeHuman); made of
+# the ARKit shapes (docs/arkit.md) they measure 0.07 and 0.13 (MakeHuman's coarser mesh).
+MAX_MOUTH_CREASE = {"ict": 0.1, "makehuman": 0.16}
+
+
+@pytest.mark.parametrize("name", ["makehuman", "ict"])
+def test_sample_viseme_and_expression_keys_do_not_crease_the_mouth(request, name):
+    model = request.getfixturevalue("head" if name == "makehuman" else "ict")
+    skin = model.meshes[model.find_mesh("skin")]
+    corners = [skin.coord[model.feature_points[p].vertex] for p in ("8.3", "8.4")]
+    fapu = mpeg4face.measure_fapu(model)
+    mouth = np.linalg.norm(skin.coord - (corners[0] + corners[1]) / 2, axis=1) \
+        < 0.6 * fapu.unit("MW") * 1024
+    creases = {t.name: apart_from_neighbours(skin, np.asarray(t.displacements))[mouth].max()
+               / (fapu.unit("MNS") * 1024)
+               for t in skin.morph_targets if t.name.startswith(("viseme", "expression"))}
+    assert len(creases) == 20
+    worst = max(creases, key=creases.get)
+    assert creases[worst] <= MAX_MOUTH_CREASE[name], (worst, round(creases[worst], 3))
 
 
 def test_viseme_and_expression_keys_are_the_ict_heads_cloned_each_alone(built, head):

@@ -45,6 +45,9 @@ struct ArkitShapeRef {
 // EyeBlinkLeft, eyeBlink_L, eye_blink_left, eyeBlink.L, blendShape1.eyeBlinkLeft. A side
 // suffix on a shape ARKit has whole (browInnerUp_L, cheekPuff_R) names its half.
 std::optional<ArkitShapeRef> arkitShapeIndex(std::string_view targetName);
+// Whether a shape belongs to the eye FAPs only: the eyeLook shapes (the eyeballs' turns) and
+// pupilDilate.
+bool isArkitEyeShape(int shape);
 // The side a shape moves: Left / Right for eyeBlinkLeft / ..Right and for halves; Centre for
 // whole shapes, and for jawLeft / jawRight / mouthLeft / mouthRight, which move the jaw or
 // mouth sideways as a whole.
