@@ -184,7 +184,7 @@ class FeaturePointShares {
 // a viseme or expression key is made of the shapes, not of the FAP keys it was evaluated
 // through (docs/arkit.md, "Viseme and expression keys"). The eye shapes are left out: an
 // expression's eyeball turn is a pose.
-constexpr double kProjectionWeightCost = 0.05;
+constexpr double kProjectionWeightCost = 0.1;
 class ArkitProjection {
  public:
   ArkitProjection(const FaceModel& head, const ArkitShapes& shapes) : head_(head) {

@@ -395,7 +395,7 @@ def test_sample_viseme_keys_part_the_lips(sample, viseme):
 # The most a viseme or expression key may crease the mouth: a vertex within 0.6 MW0 of the
 # mouth's centre apart from its neighbours' mean, in MNS0. Made from the localised FAP keys
 # the open vowels' lower lip came to a point at 8.2 (0.24 on ICT, 0.26 on MakeHuman); made of
-# the ARKit shapes (docs/arkit.md) they measure 0.07 and 0.13 (MakeHuman's coarser mesh).
+# the ARKit shapes (docs/arkit.md) they measure 0.06 and 0.13 (MakeHuman's coarser mesh).
 MAX_MOUTH_CREASE = {"ict": 0.1, "makehuman": 0.16}
 
 
