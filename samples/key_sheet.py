@@ -54,10 +54,16 @@ def main() -> None:
     render = scene.render
     tiles = []
     with tempfile.TemporaryDirectory() as folder:
+        # A key is on every mesh it moves (the ICT head's lower teeth and gums open with
+        # the jaw): each object's block of that name is set, not only the head's.
+        keyed = [o.data.shape_keys.key_blocks for o in scene.objects
+                 if o.type == "MESH" and o.data.shape_keys]
         for n, name in enumerate(keys, 1):
-            for block in blocks:
-                block.value = 0.0
-            blocks[name].value = 1.0
+            for object_blocks in keyed:
+                for block in object_blocks:
+                    block.value = 0.0
+                if name in object_blocks:
+                    object_blocks[name].value = 1.0
             scene.frame_set(markers.get(name, markers.get(poses.NEUTRAL_MARKER, 1)))
             render.stamp_note_text = f"{args.title} {name}".strip()
             render.filepath = str(Path(folder) / f"{n:02d}.png")
