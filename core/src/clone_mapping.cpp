@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 
 #include "clone_internal.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/triangle_interpolation.hpp"
+#include "surface_closest_point.hpp"
 
 namespace mpeg4face::clone {
 namespace {
@@ -412,7 +414,26 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       if (lip == LipRegion::Lower) tags[t] |= kLowerTag;
     }
   }
-  const TriangleInterpolator motion(src.uv, src.triangles, src.depth, std::move(tags));
+  // Hidden layers are matched in 3D (below): the source's points in normalised space, and a
+  // closest-point tree per set of excluded lip tags, made when first needed.
+  Points3 sourceSpace(src.uv.rows(), 3);
+  for (Eigen::Index r = 0; r < src.uv.rows(); ++r) {
+    sourceSpace.row(r) =
+        unproject(sourceFrame, src.uv.row(r), src.depth[static_cast<std::size_t>(r)]).transpose();
+  }
+  std::array<std::unique_ptr<SurfaceClosestPoint>, 4> hiddenLayers;
+  const auto closestOnSource = [&](const Eigen::Vector3d& q, std::uint8_t excluded) {
+    std::unique_ptr<SurfaceClosestPoint>& tree = hiddenLayers[excluded];
+    if (!tree) {
+      std::vector<int> allowed;
+      for (std::size_t t = 0; t < tags.size(); ++t) {
+        if ((tags[t] & excluded) == 0) allowed.push_back(static_cast<int>(t));
+      }
+      tree = std::make_unique<SurfaceClosestPoint>(sourceSpace, src.triangles, allowed);
+    }
+    return tree->closest(q);
+  };
+  const TriangleInterpolator motion(src.uv, src.triangles, src.depth, tags);
 
   const Eigen::Index n = tgt.uv.rows();
   // A vertex that no face uses is not part of the surface: it gets no motion.
@@ -461,6 +482,15 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   const SamePlace samePlace(src, sourceCentroid);
   const Points2 alignedCentroid = meanTriangleCentroid(aligned, tgt.triangles);
 
+  // The source's depth interpolated at a located point.
+  const auto depthAt = [&](const TriangleWeights& w) {
+    double d = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      d += w.weights[static_cast<Eigen::Index>(k)] *
+           src.depth[static_cast<std::size_t>(w.corners[k])];
+    }
+    return d;
+  };
   map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
   map.rowStart.push_back(0);
   std::vector<std::pair<int, double>> entries;
@@ -506,21 +536,29 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
                                                                  : 0;
     const double depth = tgt.depth[static_cast<std::size_t>(t)];
     const Eigen::Vector2d side = alignedCentroid.row(t).transpose();
-    int same = samePlace.find(p, depth, SamePlace::kSame, side, otherLip, map.sourceLips);
+    const int same = samePlace.find(p, depth, SamePlace::kSame, side, otherLip, map.sourceLips);
     TriangleWeights centre;
     const double below = belowTop[static_cast<std::size_t>(t)];
-    if (same < 0) {
-      centre = motion.locate(p, excluded, below);
-      // Under the outer surface, where the source has no layer as deep here (a steep fold,
-      // such as an eye socket's wall, covers little of the projection), the nearest source
-      // vertex is the better match.
-      if (centre.triangle >= 0 && below > 0) {
-        double there = 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          there += centre.weights[static_cast<Eigen::Index>(k)] *
-                   src.depth[static_cast<std::size_t>(centre.corners[k])];
-        }
-        same = samePlace.find(p, depth, std::abs(there - depth), side, otherLip, map.sourceLips);
+    ClosestPoint hidden;  // the centre sample matched in 3D
+    if (same < 0) centre = motion.locate(p, excluded, below);
+    if (same < 0 && below > 0 && centre.inside) {
+      // Under the outer surface (a fold, an inner layer) the projection says little: layers
+      // lie over each other, and a steep wall such as an eye socket's covers little of it.
+      // The point is taken into the source's normalised space as far under the source's
+      // outer surface as it lies under its own; where the source's surface is less than half
+      // as far from it in 3D as the layer found in the projection, its closest point there
+      // is taken instead (ours).
+      const TriangleWeights top = motion.locate(p, excluded);
+      const double wanted = depthAt(top) + below;
+      const Eigen::Vector3d q = unproject(sourceFrame, p, wanted);
+      hidden = closestOnSource(q, excluded);
+      if (hidden.triangle >= 0 &&
+          (hidden.point - q).norm() < 0.5 * std::abs(depthAt(centre) - wanted)) {
+        centre.triangle = hidden.triangle;
+        centre.corners = hidden.corners;
+        centre.weights = hidden.weights;
+      } else {
+        hidden.triangle = -1;
       }
     }
     if (same >= 0) {  // the centre sample is that vertex (triangle: any valid index)
@@ -548,10 +586,29 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     }
     const double share = support > 0 ? 1.0 / 7 : 1.0;
     addSample(centre, p, share);
+    // On a hidden layer the circle lies in the plane of the source triangle found in 3D.
+    Eigen::Vector3d e1 = Eigen::Vector3d::Zero(), e2 = e1;
+    if (hidden.triangle >= 0 && support > 0) {
+      const Eigen::Vector3d a = sourceSpace.row(hidden.corners[0]);
+      e1 = (Eigen::Vector3d(sourceSpace.row(hidden.corners[1])) - a).normalized();
+      e2 = (Eigen::Vector3d(sourceSpace.row(hidden.corners[2])) - a);
+      e2 = (e2 - e2.dot(e1) * e1).normalized();
+    }
     for (int k = 0; support > 0 && k < 6; ++k) {
       const double a = k * std::numbers::pi / 3;
       const Eigen::Vector2d q = p + 0.5 * support * Eigen::Vector2d(std::cos(a), std::sin(a));
-      addSample(motion.locate(q, excluded, below), q, share);
+      if (hidden.triangle < 0) {
+        addSample(motion.locate(q, excluded, below), q, share);
+        continue;
+      }
+      const ClosestPoint h = closestOnSource(
+          hidden.point + 0.5 * support * (std::cos(a) * e1 + std::sin(a) * e2), excluded);
+      TriangleWeights w;
+      w.triangle = h.triangle;
+      w.corners = h.corners;
+      w.weights = h.weights;
+      w.inside = true;
+      addSample(w, q, share);
     }
     for (const auto& [s, weight] : entries) {
       map.source.push_back(s);
