@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <unordered_map>
 
 #include "clone_internal.hpp"
 #include "mpeg4face/error.hpp"
@@ -200,8 +201,9 @@ std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& fra
 }
 
 // Each point's mean length of the edges of `triangles` that meet there (0 for a point on none):
-// the local sampling distance of the mesh in alignment space.
-std::vector<double> meanEdgeLength(const Points2& uv, std::span<const int> triangles) {
+// the local sampling distance of the mesh (in alignment space, or in 3D).
+template <class Points>
+std::vector<double> meanEdgeLength(const Points& uv, std::span<const int> triangles) {
   std::vector<double> sum(static_cast<std::size_t>(uv.rows()), 0.0);
   std::vector<int> count(sum.size(), 0);
   for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
@@ -221,15 +223,17 @@ std::vector<double> meanEdgeLength(const Points2& uv, std::span<const int> trian
 }
 
 // The filter's support at a target point whose edges are `targetEdge` long where the
-// source's are `sourceEdge` long, `featureDistance` from the nearest feature point: the
-// antialiasing support where the target samples more coarsely (CloneOptions::adaptiveFilter),
-// the smoothing one where it samples more finely (CloneOptions::smoothSupport).
+// source's are `sourceEdge` long in alignment space (`targetEdge3`, `sourceEdge3` in normalised
+// 3D space), `featureDistance` from the nearest feature point: the antialiasing support where
+// the target samples more coarsely (CloneOptions::adaptiveFilter), the smoothing one where it
+// samples more finely (CloneOptions::smoothSupport).
 double filterSupportAt(const CloneOptions& options, double targetEdge, double sourceEdge,
-                       double featureDistance) {
+                       double targetEdge3, double sourceEdge3, double featureDistance) {
   // Ramps of the edge-length ratio: antialiasing from 1.25 (two versions of one mesh differ
   // that much locally) to 2; smoothing only where the source is much coarser, from 3 to 6
-  // (a dense source's piecewise-linear motion is smooth enough on a finer target, and
-  // smoothing it would only blur it).
+  // (a dense source's motion, interpolated quadratically, is smooth enough on a finer target,
+  // and smoothing it would only blur it). The smoothing's ratio is taken in 3D: near the
+  // projection's axis (the chin's underside) the cylinder stretches u many times.
   const auto ramp = [](double ratio, double none, double full) {
     return std::clamp((ratio - none) / (full - none), 0.0, 1.0);
   };
@@ -238,8 +242,9 @@ double filterSupportAt(const CloneOptions& options, double targetEdge, double so
   if (options.adaptiveFilter) {
     support = ramp(targetEdge / sourceEdge, 1.25, 2.0) * options.filterSupport;
   }
-  const double smooth = ramp(sourceEdge / targetEdge, 3.0, 6.0) *
-                        std::min(options.smoothSupport * sourceEdge, featureDistance);
+  if (!(sourceEdge3 > 0) || !(targetEdge3 > 0)) return support;
+  const double smooth = ramp(sourceEdge3 / targetEdge3, 3.0, 6.0) *
+                        std::min(options.smoothSupport * sourceEdge3, featureDistance);
   return std::max(support, smooth);
 }
 
@@ -290,6 +295,61 @@ class SamePlace {
   const Projected& source_;
   const Points2& centroid_;
   std::vector<int> byU_;
+};
+
+// The modified butterfly rule's value at the midpoint of a mesh edge (Zorin et al. 1996, regular
+// case: 1/2 at its ends, 1/8 at the two opposite corners, -1/16 at the four wing corners), as
+// weights over the mesh's points: with the corners', it makes a quadratic interpolation in a
+// triangle that keeps a peak round where linear interpolation flattens it (ours).
+class ButterflyMidpoints {
+ public:
+  explicit ButterflyMidpoints(std::span<const int> triangles) {
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        auto& o = opposite_
+                      .try_emplace(key(triangles[t + k], triangles[t + (k + 1) % 3]),
+                                   std::array<int, 3>{-1, -1, -1})
+                      .first->second;
+        o[o[0] < 0 ? 0 : o[1] < 0 ? 1 : 2] = triangles[t + (k + 2) % 3];  // 2: non-manifold
+      }
+    }
+  }
+  // Appends the stencil of edge (a, b) times `weight` to `out`; the plain midpoint where the
+  // edge's neighbourhood is not two regular triangles on each side, or where it reaches a
+  // point `excluded` says no to.
+  template <class Excluded>
+  void add(int a, int b, double weight, const Excluded& excluded,
+           std::vector<std::pair<int, double>>& out) const {
+    std::array<int, 8> v{a, b, -1, -1, -1, -1, -1, -1};
+    const auto other = [&](int x, int y, int not_) {
+      const auto it = opposite_.find(key(x, y));
+      if (it == opposite_.end() || it->second[2] >= 0 || it->second[1] < 0) return -1;
+      return it->second[0] == not_ ? it->second[1] : it->second[0];
+    };
+    const auto o = opposite_.find(key(a, b));
+    bool regular = o != opposite_.end() && o->second[1] >= 0 && o->second[2] < 0;
+    if (regular) {
+      v[2] = o->second[0];
+      v[3] = o->second[1];
+      v[4] = other(a, v[2], b);
+      v[5] = other(b, v[2], a);
+      v[6] = other(a, v[3], b);
+      v[7] = other(b, v[3], a);
+      for (int x : v) regular = regular && x >= 0 && !excluded(x);
+    }
+    static constexpr std::array<double, 8> kButterfly{0.5,     0.5,     0.125,   0.125,
+                                                      -0.0625, -0.0625, -0.0625, -0.0625};
+    for (std::size_t i = 0; i < (regular ? 8u : 2u); ++i) {
+      out.emplace_back(v[i], weight * (regular ? kButterfly[i] : 0.5));
+    }
+  }
+
+ private:
+  static std::uint64_t key(int a, int b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+  }
+  std::unordered_map<std::uint64_t, std::array<int, 3>> opposite_;
 };
 
 // The required feature points' projected points, in cloneFeaturePoints() order.
@@ -457,6 +517,14 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     sourceEdge = meanEdgeLength(src.uv, src.triangles);
     targetEdge = meanEdgeLength(aligned, tgt.triangles);
   }
+  std::vector<double> sourceEdge3, targetEdge3;  // the same in normalised 3D space
+  if (!sourceEdge.empty()) {
+    sourceEdge3 = meanEdgeLength(sourceSpace, src.triangles);
+    const Points3 targetSpace =
+        (targetSurface.positions.rowwise() - targetFrame.centre.transpose()).array().rowwise() /
+        targetFrame.positionScale.transpose().array();
+    targetEdge3 = meanEdgeLength(targetSpace, tgt.triangles);
+  }
   // How far each target point lies under its own face's outer surface (a fold, an inner
   // layer: the paper's smallest-depth rule would give it the outer layer's motion); it takes
   // the source's layer as far under the source's outer surface (ours).
@@ -493,7 +561,15 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   };
   map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
   map.rowStart.push_back(0);
-  std::vector<std::pair<int, double>> entries;
+  std::vector<std::pair<int, double>> entries, terms;
+  std::vector<std::pair<TriangleWeights, Eigen::Vector2d>> samples;
+  const ButterflyMidpoints midpoints(sourceSurface.triangles);
+  double curve = 0;  // per target point: how much of the quadratic interpolation
+  LipRegion otherLip = LipRegion::Outside;
+  const auto otherLipPoint = [&](int s) {
+    return otherLip != LipRegion::Outside &&
+           map.sourceLips[static_cast<std::size_t>(s)] == otherLip;
+  };
   // Adds a sample's share of the source motion at q (weight `share`) to `entries`.
   const auto addSample = [&](const TriangleWeights& w, const Eigen::Vector2d& q, double share) {
     if (w.triangle < 0) return;
@@ -506,9 +582,21 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       }
       fade = std::max(0.0, 1 - (q - nearest).norm() / options.outsideFalloff);
     }
-    for (int k = 0; k < 3; ++k) {
-      const int s = w.corners[static_cast<std::size_t>(k)];
-      const double weight = share * fade * w.weights[k];
+    // Linear in the triangle, and by `curve` the quadratic through the corners and the
+    // butterfly midpoints of its edges: N_k = b_k (2 b_k - 1) at a corner, 4 b_k b_l at an edge.
+    terms.clear();
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double b = w.weights[static_cast<Eigen::Index>(k)];
+      terms.emplace_back(w.corners[k], (1 - curve) * b + curve * b * (2 * b - 1));
+    }
+    for (std::size_t k = 0; curve > 0 && k < 3; ++k) {
+      const std::size_t l = (k + 1) % 3;
+      const double b = 4 * curve * w.weights[static_cast<Eigen::Index>(k)] *
+                       w.weights[static_cast<Eigen::Index>(l)];
+      if (b != 0) midpoints.add(w.corners[k], w.corners[l], b, otherLipPoint, terms);
+    }
+    for (const auto& [s, term] : terms) {
+      const double weight = share * fade * term;
       if (weight == 0) continue;
       auto it =
           std::find_if(entries.begin(), entries.end(), [&](const auto& e) { return e.first == s; });
@@ -528,9 +616,9 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     }
     const Eigen::Vector2d p = aligned.row(t);
     const LipRegion lip = map.targetLips[static_cast<std::size_t>(t)];
-    const LipRegion otherLip = lip == LipRegion::Upper   ? LipRegion::Lower
-                               : lip == LipRegion::Lower ? LipRegion::Upper
-                                                         : LipRegion::Outside;
+    otherLip = lip == LipRegion::Upper   ? LipRegion::Lower
+               : lip == LipRegion::Lower ? LipRegion::Upper
+                                         : LipRegion::Outside;
     const std::uint8_t excluded = otherLip == LipRegion::Lower   ? kLowerTag
                                   : otherLip == LipRegion::Upper ? kUpperTag
                                                                  : 0;
@@ -568,24 +656,43 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       centre.inside = true;
     }
     entries.clear();
+    curve = 0;
     // The filter: the centre and six points on a circle of diameter `support`, averaged.
     double support = options.adaptiveFilter ? 0 : options.filterSupport;
     if (!sourceEdge.empty() && centre.triangle >= 0) {
-      double here = 0;
-      for (int k = 0; k < 3; ++k) {
-        here += centre.weights[k] *
-                sourceEdge[static_cast<std::size_t>(centre.corners[static_cast<std::size_t>(k)])];
+      double here = 0, here3 = 0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const auto s = static_cast<std::size_t>(centre.corners[k]);
+        here += centre.weights[static_cast<Eigen::Index>(k)] * sourceEdge[s];
+        here3 += centre.weights[static_cast<Eigen::Index>(k)] * sourceEdge3[s];
       }
       const double there = targetEdge[static_cast<std::size_t>(t)];
+      const double there3 = targetEdge3[static_cast<std::size_t>(t)];
       // The distance to the nearest feature point matters only where the target is finer.
       double featureDistance = 0;
-      if (options.smoothSupport > 0 && here > 3 * there) {
+      if (options.smoothSupport > 0 && here3 > 3 * there3) {
         featureDistance = (fpSource.rowwise() - p.transpose()).rowwise().norm().minCoeff();
       }
-      support = filterSupportAt(options, there, here, featureDistance);
+      support = filterSupportAt(options, there, here, there3, here3, featureDistance);
+      // Where the target samples more finely than the source, the motion between the
+      // source's points is interpolated quadratically (ours): from 1.25 times to twice.
+      if (there3 > 0) curve = std::clamp((here3 / there3 - 1.25) / (2 - 1.25), 0.0, 1.0);
     }
-    const double share = support > 0 ? 1.0 / 7 : 1.0;
-    addSample(centre, p, share);
+    // The filter's samples around the centre, each where the source's surface lies there. A
+    // sample that lands on another part of the surface, more than three times as far in 3D as
+    // it lies from the centre in the projection (across a fold: the chin's underside, seen
+    // edge on by the cylinder, under the chin's front), is left out (ours).
+    samples.assign(1, {centre, p});
+    // The located point's place on the source's surface in its normalised space.
+    const auto placeOf = [&](const TriangleWeights& w) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (std::size_t k = 0; k < 3; ++k) {
+        x += w.weights[static_cast<Eigen::Index>(k)] * sourceSpace.row(w.corners[k]).transpose();
+      }
+      return x;
+    };
+    const Eigen::Vector3d centreSpace =
+        centre.triangle >= 0 ? placeOf(centre) : Eigen::Vector3d::Zero();
     // On a hidden layer the circle lies in the plane of the source triangle found in 3D.
     Eigen::Vector3d e1 = Eigen::Vector3d::Zero(), e2 = e1;
     if (hidden.triangle >= 0 && support > 0) {
@@ -598,7 +705,11 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       const double a = k * std::numbers::pi / 3;
       const Eigen::Vector2d q = p + 0.5 * support * Eigen::Vector2d(std::cos(a), std::sin(a));
       if (hidden.triangle < 0) {
-        addSample(motion.locate(q, excluded, below), q, share);
+        const TriangleWeights w = motion.locate(q, excluded, below);
+        if (centre.inside && w.triangle >= 0 && (placeOf(w) - centreSpace).norm() > 1.5 * support) {
+          continue;
+        }
+        samples.push_back({w, q});
         continue;
       }
       const ClosestPoint h = closestOnSource(
@@ -608,8 +719,9 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       w.corners = h.corners;
       w.weights = h.weights;
       w.inside = true;
-      addSample(w, q, share);
+      samples.push_back({w, q});
     }
+    for (const auto& [w, q] : samples) addSample(w, q, 1.0 / static_cast<double>(samples.size()));
     for (const auto& [s, weight] : entries) {
       map.source.push_back(s);
       map.weight.push_back(weight);
