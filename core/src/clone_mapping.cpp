@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <unordered_map>
 
 #include "clone_internal.hpp"
@@ -474,25 +475,12 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       if (lip == LipRegion::Lower) tags[t] |= kLowerTag;
     }
   }
-  // Hidden layers are matched in 3D (below): the source's points in normalised space, and a
-  // closest-point tree per set of excluded lip tags, made when first needed.
+  // Hidden layers are matched in 3D (below): the source's points in normalised space.
   Points3 sourceSpace(src.uv.rows(), 3);
   for (Eigen::Index r = 0; r < src.uv.rows(); ++r) {
     sourceSpace.row(r) =
         unproject(sourceFrame, src.uv.row(r), src.depth[static_cast<std::size_t>(r)]).transpose();
   }
-  std::array<std::unique_ptr<SurfaceClosestPoint>, 4> hiddenLayers;
-  const auto closestOnSource = [&](const Eigen::Vector3d& q, std::uint8_t excluded) {
-    std::unique_ptr<SurfaceClosestPoint>& tree = hiddenLayers[excluded];
-    if (!tree) {
-      std::vector<int> allowed;
-      for (std::size_t t = 0; t < tags.size(); ++t) {
-        if ((tags[t] & excluded) == 0) allowed.push_back(static_cast<int>(t));
-      }
-      tree = std::make_unique<SurfaceClosestPoint>(sourceSpace, src.triangles, allowed);
-    }
-    return tree->closest(q);
-  };
   const TriangleInterpolator motion(src.uv, src.triangles, src.depth, tags);
 
   const Eigen::Index n = tgt.uv.rows();
@@ -530,7 +518,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   // the source's layer as far under the source's outer surface (ours).
   std::vector<double> belowTop(static_cast<std::size_t>(n), 0.0);
   {
-    const TriangleInterpolator own(tgt.uv, tgt.triangles, tgt.depth);
+    const TriangleInterpolator own(tgt.uv, tgt.triangles, tgt.depth, {}, false);
     for (Eigen::Index t = 0; t < n; ++t) {
       if (!used[static_cast<std::size_t>(t)]) continue;
       const TriangleWeights w = own.locate(tgt.uv.row(t).transpose());
@@ -562,8 +550,9 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
   map.rowStart.push_back(0);
   std::vector<std::pair<int, double>> entries, terms;
+  std::vector<int> entryOf(static_cast<std::size_t>(src.uv.rows()), -1);  // index in entries
   std::vector<std::pair<TriangleWeights, Eigen::Vector2d>> samples;
-  const ButterflyMidpoints midpoints(sourceSurface.triangles);
+  std::optional<ButterflyMidpoints> midpoints;  // made when first needed
   double curve = 0;  // per target point: how much of the quadratic interpolation
   LipRegion otherLip = LipRegion::Outside;
   const auto otherLipPoint = [&](int s) {
@@ -593,78 +582,67 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       const std::size_t l = (k + 1) % 3;
       const double b = 4 * curve * w.weights[static_cast<Eigen::Index>(k)] *
                        w.weights[static_cast<Eigen::Index>(l)];
-      if (b != 0) midpoints.add(w.corners[k], w.corners[l], b, otherLipPoint, terms);
+      if (b == 0) continue;
+      if (!midpoints) midpoints.emplace(sourceSurface.triangles);
+      midpoints->add(w.corners[k], w.corners[l], b, otherLipPoint, terms);
     }
     for (const auto& [s, term] : terms) {
       const double weight = share * fade * term;
       if (weight == 0) continue;
-      auto it =
-          std::find_if(entries.begin(), entries.end(), [&](const auto& e) { return e.first == s; });
-      if (it == entries.end()) {
+      int& at = entryOf[static_cast<std::size_t>(s)];
+      if (at < 0) {
+        at = static_cast<int>(entries.size());
         entries.emplace_back(s, weight);
       } else {
-        it->second += weight;
+        entries[static_cast<std::size_t>(at)].second += weight;
       }
     }
   };
+  // First the centre sample of every target point, and for a point under its face's outer
+  // surface the place in the source's normalised space it would match in 3D (below).
+  struct Centre {
+    TriangleWeights weights;
+    LipRegion otherLip = LipRegion::Outside;
+    std::uint8_t excluded = 0;
+    bool hidden = false;    // to be matched in 3D
+    Eigen::Vector3d place;  // there
+    double reach = 0;       // a 3D match nearer than this is taken
+    double support = 0;     // the filter's
+    double curve = 0;       // how much of the quadratic interpolation
+  };
+  std::vector<Centre> centres(static_cast<std::size_t>(n));
+  Eigen::AlignedBox3d reachBox;
   for (Eigen::Index t = 0; t < n; ++t) {
-    if (options.progress && t % 4096 == 0)
-      options.progress("mapping", 0.5 * static_cast<double>(t) / static_cast<double>(n));
-    if (!used[static_cast<std::size_t>(t)]) {
-      map.rowStart.push_back(static_cast<int>(map.source.size()));
-      continue;
-    }
+    if (!used[static_cast<std::size_t>(t)]) continue;
+    Centre& c = centres[static_cast<std::size_t>(t)];
     const Eigen::Vector2d p = aligned.row(t);
     const LipRegion lip = map.targetLips[static_cast<std::size_t>(t)];
-    otherLip = lip == LipRegion::Upper   ? LipRegion::Lower
-               : lip == LipRegion::Lower ? LipRegion::Upper
-                                         : LipRegion::Outside;
-    const std::uint8_t excluded = otherLip == LipRegion::Lower   ? kLowerTag
-                                  : otherLip == LipRegion::Upper ? kUpperTag
-                                                                 : 0;
+    c.otherLip = lip == LipRegion::Upper   ? LipRegion::Lower
+                 : lip == LipRegion::Lower ? LipRegion::Upper
+                                           : LipRegion::Outside;
+    c.excluded = c.otherLip == LipRegion::Lower   ? kLowerTag
+                 : c.otherLip == LipRegion::Upper ? kUpperTag
+                                                  : 0;
     const double depth = tgt.depth[static_cast<std::size_t>(t)];
     const Eigen::Vector2d side = alignedCentroid.row(t).transpose();
-    const int same = samePlace.find(p, depth, SamePlace::kSame, side, otherLip, map.sourceLips);
-    TriangleWeights centre;
+    const int same = samePlace.find(p, depth, SamePlace::kSame, side, c.otherLip, map.sourceLips);
     const double below = belowTop[static_cast<std::size_t>(t)];
-    ClosestPoint hidden;  // the centre sample matched in 3D
-    if (same < 0) centre = motion.locate(p, excluded, below);
-    if (same < 0 && below > 0 && centre.inside) {
-      // Under the outer surface (a fold, an inner layer) the projection says little: layers
-      // lie over each other, and a steep wall such as an eye socket's covers little of it.
-      // The point is taken into the source's normalised space as far under the source's
-      // outer surface as it lies under its own; where the source's surface is less than half
-      // as far from it in 3D as the layer found in the projection, its closest point there
-      // is taken instead (ours).
-      const TriangleWeights top = motion.locate(p, excluded);
-      const double wanted = depthAt(top) + below;
-      const Eigen::Vector3d q = unproject(sourceFrame, p, wanted);
-      hidden = closestOnSource(q, excluded);
-      if (hidden.triangle >= 0 &&
-          (hidden.point - q).norm() < 0.5 * std::abs(depthAt(centre) - wanted)) {
-        centre.triangle = hidden.triangle;
-        centre.corners = hidden.corners;
-        centre.weights = hidden.weights;
-      } else {
-        hidden.triangle = -1;
-      }
-    }
     if (same >= 0) {  // the centre sample is that vertex (triangle: any valid index)
-      centre.triangle = 0;
-      centre.corners = {same, same, same};
-      centre.weights = Eigen::Vector3d(1, 0, 0);
-      centre.inside = true;
+      c.weights.triangle = 0;
+      c.weights.corners = {same, same, same};
+      c.weights.weights = Eigen::Vector3d(1, 0, 0);
+      c.weights.inside = true;
+    } else {
+      c.weights = motion.locate(p, c.excluded, below);
     }
-    entries.clear();
-    curve = 0;
     // The filter: the centre and six points on a circle of diameter `support`, averaged.
-    double support = options.adaptiveFilter ? 0 : options.filterSupport;
-    if (!sourceEdge.empty() && centre.triangle >= 0) {
+    c.support = options.adaptiveFilter ? 0 : options.filterSupport;
+    if (!sourceEdge.empty() && c.weights.triangle >= 0) {
       double here = 0, here3 = 0;
       for (std::size_t k = 0; k < 3; ++k) {
-        const auto s = static_cast<std::size_t>(centre.corners[k]);
-        here += centre.weights[static_cast<Eigen::Index>(k)] * sourceEdge[s];
-        here3 += centre.weights[static_cast<Eigen::Index>(k)] * sourceEdge3[s];
+        const auto s = static_cast<std::size_t>(c.weights.corners[k]);
+        here += c.weights.weights[static_cast<Eigen::Index>(k)] * sourceEdge[s];
+        here3 += c.weights.weights[static_cast<Eigen::Index>(k)] * sourceEdge3[s];
       }
       const double there = targetEdge[static_cast<std::size_t>(t)];
       const double there3 = targetEdge3[static_cast<std::size_t>(t)];
@@ -673,11 +651,124 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       if (options.smoothSupport > 0 && here3 > 3 * there3) {
         featureDistance = (fpSource.rowwise() - p.transpose()).rowwise().norm().minCoeff();
       }
-      support = filterSupportAt(options, there, here, there3, here3, featureDistance);
+      c.support = filterSupportAt(options, there, here, there3, here3, featureDistance);
       // Where the target samples more finely than the source, the motion between the
-      // source's points is interpolated quadratically (ours): from 1.25 times to twice.
-      if (there3 > 0) curve = std::clamp((here3 / there3 - 1.25) / (2 - 1.25), 0.0, 1.0);
+      // source's points is interpolated quadratically (ours): from 1.5 times (two versions of
+      // one mesh differ that much locally) to 2.5 times.
+      if (there3 > 0) c.curve = std::clamp((here3 / there3 - 1.5) / (2.5 - 1.5), 0.0, 1.0);
     }
+    if (same < 0 && below > 0 && c.weights.inside) {
+      // Under the outer surface (a fold, an inner layer) the projection says little: layers
+      // lie over each other, and a steep wall such as an eye socket's covers little of it.
+      // The point is taken into the source's normalised space as far under the source's
+      // outer surface as it lies under its own; where the source's surface is less than half
+      // as far from it in 3D as the layer found in the projection, its closest point there
+      // is taken instead (ours).
+      const double wanted = depthAt(motion.locate(p, c.excluded)) + below;
+      c.place = unproject(sourceFrame, p, wanted);
+      c.reach = 0.5 * std::abs(depthAt(c.weights) - wanted);
+      // Where the layer found is already within a quarter of the source's local edge, the 3D
+      // match would change little: not searched.
+      double edge = 0;
+      for (std::size_t k = 0; k < 3 && !sourceEdge3.empty(); ++k) {
+        edge += c.weights.weights[static_cast<Eigen::Index>(k)] *
+                sourceEdge3[static_cast<std::size_t>(c.weights.corners[k])];
+      }
+      c.hidden = c.reach > 0.125 * edge;
+    }
+  }
+  // The closest-point tree holds the source's triangles that a 3D match or its filter's
+  // samples can reach: those whose box meets a cell of a grid that such a point's reach and
+  // support touch.
+  std::unique_ptr<SurfaceClosestPoint> hiddenLayers;
+  {
+    Eigen::AlignedBox3d all;
+    double cell = 0;
+    for (const Centre& c : centres) {
+      if (!c.hidden) continue;
+      all.extend(c.place);
+      cell = std::max(cell, c.reach + c.support);
+    }
+    if (!all.isEmpty()) {
+      all.min().array() -= cell;
+      all.max().array() += cell;
+      cell = std::max(cell, all.sizes().maxCoeff() / 64);
+      const Eigen::Array3i size = (all.sizes().array() / cell).ceil().cast<int>().max(1);
+      const auto cellOf = [&](const Eigen::Vector3d& x) {
+        return ((x - all.min()).array() / cell).floor().cast<int>().max(0).min(size - 1).eval();
+      };
+      std::vector<bool> reached(static_cast<std::size_t>(size.prod()), false);
+      const auto index = [&](int x, int y, int z) {
+        return (static_cast<std::size_t>(z) * static_cast<std::size_t>(size.y()) +
+                static_cast<std::size_t>(y)) *
+                   static_cast<std::size_t>(size.x()) +
+               static_cast<std::size_t>(x);
+      };
+      const auto forCells = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, auto f) {
+        const Eigen::Array3i a = cellOf(lo), b = cellOf(hi);
+        for (int z = a.z(); z <= b.z(); ++z)
+          for (int y = a.y(); y <= b.y(); ++y)
+            for (int x = a.x(); x <= b.x(); ++x)
+              if (f(index(x, y, z))) return true;
+        return false;
+      };
+      for (const Centre& c : centres) {
+        if (!c.hidden) continue;
+        const Eigen::Vector3d r = Eigen::Vector3d::Constant(c.reach + c.support);
+        forCells(c.place - r, c.place + r, [&](std::size_t i) {
+          reached[i] = true;
+          return false;
+        });
+      }
+      std::vector<int> near;
+      for (std::size_t t = 0; t + 2 < src.triangles.size(); t += 3) {
+        Eigen::AlignedBox3d box;
+        for (std::size_t k = 0; k < 3; ++k)
+          box.extend(sourceSpace.row(src.triangles[t + k]).transpose());
+        if (!box.intersects(all)) continue;
+        if (forCells(box.min(), box.max(), [&](std::size_t i) { return reached[i]; })) {
+          near.push_back(static_cast<int>(t / 3));
+        }
+      }
+      hiddenLayers = std::make_unique<SurfaceClosestPoint>(sourceSpace, src.triangles, near);
+    }
+  }
+  // The closest point of the source's surface to q, none if its triangle is of an excluded lip.
+  const auto closestOnSource = [&](const Eigen::Vector3d& q, std::uint8_t excluded) {
+    ClosestPoint hit = hiddenLayers->closest(q);
+    if (hit.triangle >= 0 && (tags[static_cast<std::size_t>(hit.triangle)] & excluded) != 0) {
+      hit.triangle = -1;
+    }
+    return hit;
+  };
+
+  for (Eigen::Index t = 0; t < n; ++t) {
+    if (options.progress && t % 4096 == 0)
+      options.progress("mapping", 0.5 * static_cast<double>(t) / static_cast<double>(n));
+    if (!used[static_cast<std::size_t>(t)]) {
+      map.rowStart.push_back(static_cast<int>(map.source.size()));
+      continue;
+    }
+    const Eigen::Vector2d p = aligned.row(t);
+    const Centre& c = centres[static_cast<std::size_t>(t)];
+    otherLip = c.otherLip;
+    const std::uint8_t excluded = c.excluded;
+    const double below = belowTop[static_cast<std::size_t>(t)];
+    TriangleWeights centre = c.weights;
+    ClosestPoint hidden;  // the centre sample matched in 3D
+    if (c.hidden) {
+      hidden = closestOnSource(c.place, excluded);
+      if (hidden.triangle >= 0 && (hidden.point - c.place).norm() < c.reach) {
+        centre.triangle = hidden.triangle;
+        centre.corners = hidden.corners;
+        centre.weights = hidden.weights;
+      } else {
+        hidden.triangle = -1;
+      }
+    }
+    entries.clear();
+    curve = c.curve;
+    const double support = c.support;
     // The filter's samples around the centre, each where the source's surface lies there. A
     // sample that lands on another part of the surface, more than three times as far in 3D as
     // it lies from the centre in the projection (across a fold: the chin's underside, seen
@@ -714,6 +805,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       }
       const ClosestPoint h = closestOnSource(
           hidden.point + 0.5 * support * (std::cos(a) * e1 + std::sin(a) * e2), excluded);
+      if (h.triangle < 0) continue;
       TriangleWeights w;
       w.triangle = h.triangle;
       w.corners = h.corners;
@@ -725,6 +817,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     for (const auto& [s, weight] : entries) {
       map.source.push_back(s);
       map.weight.push_back(weight);
+      entryOf[static_cast<std::size_t>(s)] = -1;
     }
     map.rowStart.push_back(static_cast<int>(map.source.size()));
   }

@@ -42,23 +42,18 @@ struct SurfaceClosestPoint::Tree {
 };
 
 SurfaceClosestPoint::SurfaceClosestPoint(const Points3& points, std::span<const int> triangles,
-                                         std::span<const int> only)
+                                         std::span<const int> ids)
     : tree_(std::make_unique<Tree>()) {
-  const auto add = [&](int t) {
+  tree_->shapes.reserve(ids.size());
+  for (int t : ids) {
     const int* c = &triangles[3 * static_cast<std::size_t>(t)];
     tree_->shapes.emplace_back(point(points.row(c[0])), point(points.row(c[1])),
                                point(points.row(c[2])));
     tree_->ids.push_back(t);
     tree_->corners.push_back({c[0], c[1], c[2]});
-  };
-  if (only.empty()) {
-    for (int t = 0; t < static_cast<int>(triangles.size() / 3); ++t) add(t);
-  } else {
-    for (int t : only) add(t);
   }
   tree_->tree.insert(tree_->shapes.cbegin(), tree_->shapes.cend());
   tree_->tree.build();
-  tree_->tree.accelerate_distance_queries();
 }
 
 SurfaceClosestPoint::~SurfaceClosestPoint() = default;

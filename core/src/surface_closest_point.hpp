@@ -22,9 +22,9 @@ struct ClosestPoint {
 
 class SurfaceClosestPoint {
  public:
-  // `triangles`: three point indices each; `only`, when not empty, the triangle indices to use.
+  // `triangles`: three point indices each; `ids`: those of them to search.
   SurfaceClosestPoint(const Points3& points, std::span<const int> triangles,
-                      std::span<const int> only = {});
+                      std::span<const int> ids);
   ~SurfaceClosestPoint();
   SurfaceClosestPoint(const SurfaceClosestPoint&) = delete;
   SurfaceClosestPoint& operator=(const SurfaceClosestPoint&) = delete;
