@@ -667,7 +667,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       const double wanted = depthAt(motion.locate(p, c.excluded)) + below;
       c.place = unproject(sourceFrame, p, wanted);
       c.reach = 0.5 * std::abs(depthAt(c.weights) - wanted);
-      // Where the layer found is already within a quarter of the source's local edge, the 3D
+      // Where the layer found is already within an eighth of the source's local edge, the 3D
       // match would change little: not searched.
       double edge = 0;
       for (std::size_t k = 0; k < 3 && !sourceEdge3.empty(); ++k) {
