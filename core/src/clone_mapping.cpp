@@ -9,7 +9,6 @@
 #include <memory>
 #include <numbers>
 #include <optional>
-#include <unordered_map>
 
 #include "clone_internal.hpp"
 #include "mpeg4face/error.hpp"
@@ -304,16 +303,24 @@ class SamePlace {
 // triangle that keeps a peak round where linear interpolation flattens it (ours).
 class ButterflyMidpoints {
  public:
-  explicit ButterflyMidpoints(std::span<const int> triangles) {
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        auto& o = opposite_
-                      .try_emplace(key(triangles[t + k], triangles[t + (k + 1) % 3]),
-                                   std::array<int, 3>{-1, -1, -1})
-                      .first->second;
-        o[o[0] < 0 ? 0 : o[1] < 0 ? 1 : 2] = triangles[t + (k + 2) % 3];  // 2: non-manifold
+  ButterflyMidpoints(std::span<const int> triangles, Eigen::Index pointCount) {
+    // Per point, the edges to points of higher index with each edge's opposite corner (CSR).
+    start_.assign(static_cast<std::size_t>(pointCount) + 1, 0);
+    const auto forEdges = [&](auto f) {
+      for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        for (std::size_t k = 0; k < 3; ++k) {
+          const int a = triangles[t + k], b = triangles[t + (k + 1) % 3];
+          f(std::min(a, b), std::max(a, b), triangles[t + (k + 2) % 3]);
+        }
       }
-    }
+    };
+    forEdges([&](int lo, int, int) { ++start_[static_cast<std::size_t>(lo) + 1]; });
+    for (std::size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+    edges_.resize(static_cast<std::size_t>(start_.back()));
+    std::vector<int> next(start_.begin(), start_.end() - 1);
+    forEdges([&](int lo, int hi, int opposite) {
+      edges_[static_cast<std::size_t>(next[static_cast<std::size_t>(lo)]++)] = {hi, opposite};
+    });
   }
   // Appends the stencil of edge (a, b) times `weight` to `out`; the plain midpoint where the
   // edge's neighbourhood is not two regular triangles on each side, or where it reaches a
@@ -322,16 +329,16 @@ class ButterflyMidpoints {
   void add(int a, int b, double weight, const Excluded& excluded,
            std::vector<std::pair<int, double>>& out) const {
     std::array<int, 8> v{a, b, -1, -1, -1, -1, -1, -1};
+    // The corner of the two triangles on edge (x, y) other than `not_` (-1: not two).
     const auto other = [&](int x, int y, int not_) {
-      const auto it = opposite_.find(key(x, y));
-      if (it == opposite_.end() || it->second[2] >= 0 || it->second[1] < 0) return -1;
-      return it->second[0] == not_ ? it->second[1] : it->second[0];
+      const auto [first, second] = opposite(x, y);
+      return second < 0 ? -1 : first == not_ ? second : first;
     };
-    const auto o = opposite_.find(key(a, b));
-    bool regular = o != opposite_.end() && o->second[1] >= 0 && o->second[2] < 0;
+    const auto [o0, o1] = opposite(a, b);
+    bool regular = o1 >= 0;
     if (regular) {
-      v[2] = o->second[0];
-      v[3] = o->second[1];
+      v[2] = o0;
+      v[3] = o1;
       v[4] = other(a, v[2], b);
       v[5] = other(b, v[2], a);
       v[6] = other(a, v[3], b);
@@ -346,11 +353,20 @@ class ButterflyMidpoints {
   }
 
  private:
-  static std::uint64_t key(int a, int b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+  // The opposite corners of edge (x, y) when exactly two triangles share it, else (-1, -1).
+  std::pair<int, int> opposite(int x, int y) const {
+    const auto lo = static_cast<std::size_t>(std::min(x, y));
+    const int hi = std::max(x, y);
+    std::array<int, 3> found{-1, -1, -1};
+    std::size_t count = 0;
+    for (int i = start_[lo]; i < start_[lo + 1]; ++i) {
+      const auto& [end, corner] = edges_[static_cast<std::size_t>(i)];
+      if (end == hi && count < 3) found[count++] = corner;
+    }
+    return count == 2 ? std::pair{found[0], found[1]} : std::pair{-1, -1};
   }
-  std::unordered_map<std::uint64_t, std::array<int, 3>> opposite_;
+  std::vector<int> start_;
+  std::vector<std::pair<int, int>> edges_;  // (higher point, opposite corner)
 };
 
 // The required feature points' projected points, in cloneFeaturePoints() order.
@@ -583,7 +599,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       const double b = 4 * curve * w.weights[static_cast<Eigen::Index>(k)] *
                        w.weights[static_cast<Eigen::Index>(l)];
       if (b == 0) continue;
-      if (!midpoints) midpoints.emplace(sourceSurface.triangles);
+      if (!midpoints) midpoints.emplace(sourceSurface.triangles, sourceSurface.positions.rows());
       midpoints->add(w.corners[k], w.corners[l], b, otherLipPoint, terms);
     }
     for (const auto& [s, term] : terms) {
