@@ -46,6 +46,10 @@ struct FaceFrame {
 FaceFrame faceFrame(const FaceModel& model, const FapuMeasurement& fapu);
 // Alignment-space point (u, v) of a model-space point; `depth` = -(distance from the axis).
 Eigen::Vector2d project(const FaceFrame& frame, const Eigen::Vector3d& p, double* depth = nullptr);
+// The normalised-space point of an alignment-space point (u, v) at `depth`, about the
+// projection's axis and turned so that the nose tip is at angle 0: project() undone up to
+// that rigid motion, so that distances are those of normalised space.
+Eigen::Vector3d unproject(const FaceFrame& frame, const Eigen::Vector2d& uv, double depth);
 
 // --- clone_mapping.cpp: the surface that takes part and the per-vertex sparse weights.
 // Every mesh not excluded (the rigid parts), in model space, as one point set.

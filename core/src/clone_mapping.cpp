@@ -6,11 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
+#include <optional>
 
 #include "clone_internal.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/triangle_interpolation.hpp"
+#include "surface_closest_point.hpp"
 
 namespace mpeg4face::clone {
 namespace {
@@ -198,8 +201,9 @@ std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& fra
 }
 
 // Each point's mean length of the edges of `triangles` that meet there (0 for a point on none):
-// the local sampling distance of the mesh in alignment space.
-std::vector<double> meanEdgeLength(const Points2& uv, std::span<const int> triangles) {
+// the local sampling distance of the mesh (in alignment space, or in 3D).
+template <class Points>
+std::vector<double> meanEdgeLength(const Points& uv, std::span<const int> triangles) {
   std::vector<double> sum(static_cast<std::size_t>(uv.rows()), 0.0);
   std::vector<int> count(sum.size(), 0);
   for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
@@ -219,15 +223,17 @@ std::vector<double> meanEdgeLength(const Points2& uv, std::span<const int> trian
 }
 
 // The filter's support at a target point whose edges are `targetEdge` long where the
-// source's are `sourceEdge` long, `featureDistance` from the nearest feature point: the
-// antialiasing support where the target samples more coarsely (CloneOptions::adaptiveFilter),
-// the smoothing one where it samples more finely (CloneOptions::smoothSupport).
+// source's are `sourceEdge` long in alignment space (`targetEdge3`, `sourceEdge3` in normalised
+// 3D space), `featureDistance` from the nearest feature point: the antialiasing support where
+// the target samples more coarsely (CloneOptions::adaptiveFilter), the smoothing one where it
+// samples more finely (CloneOptions::smoothSupport).
 double filterSupportAt(const CloneOptions& options, double targetEdge, double sourceEdge,
-                       double featureDistance) {
+                       double targetEdge3, double sourceEdge3, double featureDistance) {
   // Ramps of the edge-length ratio: antialiasing from 1.25 (two versions of one mesh differ
   // that much locally) to 2; smoothing only where the source is much coarser, from 3 to 6
-  // (a dense source's piecewise-linear motion is smooth enough on a finer target, and
-  // smoothing it would only blur it).
+  // (a dense source's motion, interpolated quadratically, is smooth enough on a finer target,
+  // and smoothing it would only blur it). The smoothing's ratio is taken in 3D: near the
+  // projection's axis (the chin's underside) the cylinder stretches u many times.
   const auto ramp = [](double ratio, double none, double full) {
     return std::clamp((ratio - none) / (full - none), 0.0, 1.0);
   };
@@ -236,8 +242,9 @@ double filterSupportAt(const CloneOptions& options, double targetEdge, double so
   if (options.adaptiveFilter) {
     support = ramp(targetEdge / sourceEdge, 1.25, 2.0) * options.filterSupport;
   }
-  const double smooth = ramp(sourceEdge / targetEdge, 3.0, 6.0) *
-                        std::min(options.smoothSupport * sourceEdge, featureDistance);
+  if (!(sourceEdge3 > 0) || !(targetEdge3 > 0)) return support;
+  const double smooth = ramp(sourceEdge3 / targetEdge3, 3.0, 6.0) *
+                        std::min(options.smoothSupport * sourceEdge3, featureDistance);
   return std::max(support, smooth);
 }
 
@@ -288,6 +295,78 @@ class SamePlace {
   const Projected& source_;
   const Points2& centroid_;
   std::vector<int> byU_;
+};
+
+// The modified butterfly rule's value at the midpoint of a mesh edge (Zorin et al. 1996, regular
+// case: 1/2 at its ends, 1/8 at the two opposite corners, -1/16 at the four wing corners), as
+// weights over the mesh's points: with the corners', it makes a quadratic interpolation in a
+// triangle that keeps a peak round where linear interpolation flattens it (ours).
+class ButterflyMidpoints {
+ public:
+  ButterflyMidpoints(std::span<const int> triangles, Eigen::Index pointCount) {
+    // Per point, the edges to points of higher index with each edge's opposite corner (CSR).
+    start_.assign(static_cast<std::size_t>(pointCount) + 1, 0);
+    const auto forEdges = [&](auto f) {
+      for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        for (std::size_t k = 0; k < 3; ++k) {
+          const int a = triangles[t + k], b = triangles[t + (k + 1) % 3];
+          f(std::min(a, b), std::max(a, b), triangles[t + (k + 2) % 3]);
+        }
+      }
+    };
+    forEdges([&](int lo, int, int) { ++start_[static_cast<std::size_t>(lo) + 1]; });
+    for (std::size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+    edges_.resize(static_cast<std::size_t>(start_.back()));
+    std::vector<int> next(start_.begin(), start_.end() - 1);
+    forEdges([&](int lo, int hi, int opposite) {
+      edges_[static_cast<std::size_t>(next[static_cast<std::size_t>(lo)]++)] = {hi, opposite};
+    });
+  }
+  // Appends the stencil of edge (a, b) times `weight` to `out`; the plain midpoint where the
+  // edge's neighbourhood is not two regular triangles on each side, or where it reaches a
+  // point `excluded` says no to.
+  template <class Excluded>
+  void add(int a, int b, double weight, const Excluded& excluded,
+           std::vector<std::pair<int, double>>& out) const {
+    std::array<int, 8> v{a, b, -1, -1, -1, -1, -1, -1};
+    // The corner of the two triangles on edge (x, y) other than `not_` (-1: not two).
+    const auto other = [&](int x, int y, int not_) {
+      const auto [first, second] = opposite(x, y);
+      return second < 0 ? -1 : first == not_ ? second : first;
+    };
+    const auto [o0, o1] = opposite(a, b);
+    bool regular = o1 >= 0;
+    if (regular) {
+      v[2] = o0;
+      v[3] = o1;
+      v[4] = other(a, v[2], b);
+      v[5] = other(b, v[2], a);
+      v[6] = other(a, v[3], b);
+      v[7] = other(b, v[3], a);
+      for (int x : v) regular = regular && x >= 0 && !excluded(x);
+    }
+    static constexpr std::array<double, 8> kButterfly{0.5,     0.5,     0.125,   0.125,
+                                                      -0.0625, -0.0625, -0.0625, -0.0625};
+    for (std::size_t i = 0; i < (regular ? 8u : 2u); ++i) {
+      out.emplace_back(v[i], weight * (regular ? kButterfly[i] : 0.5));
+    }
+  }
+
+ private:
+  // The opposite corners of edge (x, y) when exactly two triangles share it, else (-1, -1).
+  std::pair<int, int> opposite(int x, int y) const {
+    const auto lo = static_cast<std::size_t>(std::min(x, y));
+    const int hi = std::max(x, y);
+    std::array<int, 3> found{-1, -1, -1};
+    std::size_t count = 0;
+    for (int i = start_[lo]; i < start_[lo + 1]; ++i) {
+      const auto& [end, corner] = edges_[static_cast<std::size_t>(i)];
+      if (end == hi && count < 3) found[count++] = corner;
+    }
+    return count == 2 ? std::pair{found[0], found[1]} : std::pair{-1, -1};
+  }
+  std::vector<int> start_;
+  std::vector<std::pair<int, int>> edges_;  // (higher point, opposite corner)
 };
 
 // The required feature points' projected points, in cloneFeaturePoints() order.
@@ -412,7 +491,13 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       if (lip == LipRegion::Lower) tags[t] |= kLowerTag;
     }
   }
-  const TriangleInterpolator motion(src.uv, src.triangles, src.depth, std::move(tags));
+  // Hidden layers are matched in 3D (below): the source's points in normalised space.
+  Points3 sourceSpace(src.uv.rows(), 3);
+  for (Eigen::Index r = 0; r < src.uv.rows(); ++r) {
+    sourceSpace.row(r) =
+        unproject(sourceFrame, src.uv.row(r), src.depth[static_cast<std::size_t>(r)]).transpose();
+  }
+  const TriangleInterpolator motion(src.uv, src.triangles, src.depth, tags);
 
   const Eigen::Index n = tgt.uv.rows();
   // A vertex that no face uses is not part of the surface: it gets no motion.
@@ -436,12 +521,20 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     sourceEdge = meanEdgeLength(src.uv, src.triangles);
     targetEdge = meanEdgeLength(aligned, tgt.triangles);
   }
+  std::vector<double> sourceEdge3, targetEdge3;  // the same in normalised 3D space
+  if (!sourceEdge.empty()) {
+    sourceEdge3 = meanEdgeLength(sourceSpace, src.triangles);
+    const Points3 targetSpace =
+        (targetSurface.positions.rowwise() - targetFrame.centre.transpose()).array().rowwise() /
+        targetFrame.positionScale.transpose().array();
+    targetEdge3 = meanEdgeLength(targetSpace, tgt.triangles);
+  }
   // How far each target point lies under its own face's outer surface (a fold, an inner
   // layer: the paper's smallest-depth rule would give it the outer layer's motion); it takes
   // the source's layer as far under the source's outer surface (ours).
   std::vector<double> belowTop(static_cast<std::size_t>(n), 0.0);
   {
-    const TriangleInterpolator own(tgt.uv, tgt.triangles, tgt.depth);
+    const TriangleInterpolator own(tgt.uv, tgt.triangles, tgt.depth, {}, false);
     for (Eigen::Index t = 0; t < n; ++t) {
       if (!used[static_cast<std::size_t>(t)]) continue;
       const TriangleWeights w = own.locate(tgt.uv.row(t).transpose());
@@ -461,9 +554,27 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   const SamePlace samePlace(src, sourceCentroid);
   const Points2 alignedCentroid = meanTriangleCentroid(aligned, tgt.triangles);
 
+  // The source's depth interpolated at a located point.
+  const auto depthAt = [&](const TriangleWeights& w) {
+    double d = 0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      d += w.weights[static_cast<Eigen::Index>(k)] *
+           src.depth[static_cast<std::size_t>(w.corners[k])];
+    }
+    return d;
+  };
   map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
   map.rowStart.push_back(0);
-  std::vector<std::pair<int, double>> entries;
+  std::vector<std::pair<int, double>> entries, terms;
+  std::vector<int> entryOf(static_cast<std::size_t>(src.uv.rows()), -1);  // index in entries
+  std::vector<std::pair<TriangleWeights, Eigen::Vector2d>> samples;
+  std::optional<ButterflyMidpoints> midpoints;  // made when first needed
+  double curve = 0;  // per target point: how much of the quadratic interpolation
+  LipRegion otherLip = LipRegion::Outside;
+  const auto otherLipPoint = [&](int s) {
+    return otherLip != LipRegion::Outside &&
+           map.sourceLips[static_cast<std::size_t>(s)] == otherLip;
+  };
   // Adds a sample's share of the source motion at q (weight `share`) to `entries`.
   const auto addSample = [&](const TriangleWeights& w, const Eigen::Vector2d& q, double share) {
     if (w.triangle < 0) return;
@@ -476,19 +587,177 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       }
       fade = std::max(0.0, 1 - (q - nearest).norm() / options.outsideFalloff);
     }
-    for (int k = 0; k < 3; ++k) {
-      const int s = w.corners[static_cast<std::size_t>(k)];
-      const double weight = share * fade * w.weights[k];
+    // Linear in the triangle, and by `curve` the quadratic through the corners and the
+    // butterfly midpoints of its edges: N_k = b_k (2 b_k - 1) at a corner, 4 b_k b_l at an edge.
+    terms.clear();
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double b = w.weights[static_cast<Eigen::Index>(k)];
+      terms.emplace_back(w.corners[k], (1 - curve) * b + curve * b * (2 * b - 1));
+    }
+    for (std::size_t k = 0; curve > 0 && k < 3; ++k) {
+      const std::size_t l = (k + 1) % 3;
+      const double b = 4 * curve * w.weights[static_cast<Eigen::Index>(k)] *
+                       w.weights[static_cast<Eigen::Index>(l)];
+      if (b == 0) continue;
+      if (!midpoints) midpoints.emplace(sourceSurface.triangles, sourceSurface.positions.rows());
+      midpoints->add(w.corners[k], w.corners[l], b, otherLipPoint, terms);
+    }
+    for (const auto& [s, term] : terms) {
+      const double weight = share * fade * term;
       if (weight == 0) continue;
-      auto it =
-          std::find_if(entries.begin(), entries.end(), [&](const auto& e) { return e.first == s; });
-      if (it == entries.end()) {
+      int& at = entryOf[static_cast<std::size_t>(s)];
+      if (at < 0) {
+        at = static_cast<int>(entries.size());
         entries.emplace_back(s, weight);
       } else {
-        it->second += weight;
+        entries[static_cast<std::size_t>(at)].second += weight;
       }
     }
   };
+  // First the centre sample of every target point, and for a point under its face's outer
+  // surface the place in the source's normalised space it would match in 3D (below).
+  struct Centre {
+    TriangleWeights weights;
+    LipRegion otherLip = LipRegion::Outside;
+    std::uint8_t excluded = 0;
+    bool hidden = false;    // to be matched in 3D
+    Eigen::Vector3d place;  // there
+    double reach = 0;       // a 3D match nearer than this is taken
+    double support = 0;     // the filter's
+    double curve = 0;       // how much of the quadratic interpolation
+  };
+  std::vector<Centre> centres(static_cast<std::size_t>(n));
+  Eigen::AlignedBox3d reachBox;
+  for (Eigen::Index t = 0; t < n; ++t) {
+    if (!used[static_cast<std::size_t>(t)]) continue;
+    Centre& c = centres[static_cast<std::size_t>(t)];
+    const Eigen::Vector2d p = aligned.row(t);
+    const LipRegion lip = map.targetLips[static_cast<std::size_t>(t)];
+    c.otherLip = lip == LipRegion::Upper   ? LipRegion::Lower
+                 : lip == LipRegion::Lower ? LipRegion::Upper
+                                           : LipRegion::Outside;
+    c.excluded = c.otherLip == LipRegion::Lower   ? kLowerTag
+                 : c.otherLip == LipRegion::Upper ? kUpperTag
+                                                  : 0;
+    const double depth = tgt.depth[static_cast<std::size_t>(t)];
+    const Eigen::Vector2d side = alignedCentroid.row(t).transpose();
+    const int same = samePlace.find(p, depth, SamePlace::kSame, side, c.otherLip, map.sourceLips);
+    const double below = belowTop[static_cast<std::size_t>(t)];
+    if (same >= 0) {  // the centre sample is that vertex (triangle: any valid index)
+      c.weights.triangle = 0;
+      c.weights.corners = {same, same, same};
+      c.weights.weights = Eigen::Vector3d(1, 0, 0);
+      c.weights.inside = true;
+    } else {
+      c.weights = motion.locate(p, c.excluded, below);
+    }
+    // The filter: the centre and six points on a circle of diameter `support`, averaged.
+    c.support = options.adaptiveFilter ? 0 : options.filterSupport;
+    if (!sourceEdge.empty() && c.weights.triangle >= 0) {
+      double here = 0, here3 = 0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        const auto s = static_cast<std::size_t>(c.weights.corners[k]);
+        here += c.weights.weights[static_cast<Eigen::Index>(k)] * sourceEdge[s];
+        here3 += c.weights.weights[static_cast<Eigen::Index>(k)] * sourceEdge3[s];
+      }
+      const double there = targetEdge[static_cast<std::size_t>(t)];
+      const double there3 = targetEdge3[static_cast<std::size_t>(t)];
+      // The distance to the nearest feature point matters only where the target is finer.
+      double featureDistance = 0;
+      if (options.smoothSupport > 0 && here3 > 3 * there3) {
+        featureDistance = (fpSource.rowwise() - p.transpose()).rowwise().norm().minCoeff();
+      }
+      c.support = filterSupportAt(options, there, here, there3, here3, featureDistance);
+      // Where the target samples more finely than the source, the motion between the
+      // source's points is interpolated quadratically (ours): from 1.5 times (two versions of
+      // one mesh differ that much locally) to 2.5 times.
+      if (there3 > 0) c.curve = std::clamp((here3 / there3 - 1.5) / (2.5 - 1.5), 0.0, 1.0);
+    }
+    if (same < 0 && below > 0 && c.weights.inside) {
+      // Under the outer surface (a fold, an inner layer) the projection says little: layers
+      // lie over each other, and a steep wall such as an eye socket's covers little of it.
+      // The point is taken into the source's normalised space as far under the source's
+      // outer surface as it lies under its own; where the source's surface is less than half
+      // as far from it in 3D as the layer found in the projection, its closest point there
+      // is taken instead (ours).
+      const double wanted = depthAt(motion.locate(p, c.excluded)) + below;
+      c.place = unproject(sourceFrame, p, wanted);
+      c.reach = 0.5 * std::abs(depthAt(c.weights) - wanted);
+      // Where the layer found is already within an eighth of the source's local edge, the 3D
+      // match would change little: not searched.
+      double edge = 0;
+      for (std::size_t k = 0; k < 3 && !sourceEdge3.empty(); ++k) {
+        edge += c.weights.weights[static_cast<Eigen::Index>(k)] *
+                sourceEdge3[static_cast<std::size_t>(c.weights.corners[k])];
+      }
+      c.hidden = c.reach > 0.125 * edge;
+    }
+  }
+  // The closest-point tree holds the source's triangles that a 3D match or its filter's
+  // samples can reach: those whose box meets a cell of a grid that such a point's reach and
+  // support touch.
+  std::unique_ptr<SurfaceClosestPoint> hiddenLayers;
+  {
+    Eigen::AlignedBox3d all;
+    double cell = 0;
+    for (const Centre& c : centres) {
+      if (!c.hidden) continue;
+      all.extend(c.place);
+      cell = std::max(cell, c.reach + c.support);
+    }
+    if (!all.isEmpty()) {
+      all.min().array() -= cell;
+      all.max().array() += cell;
+      cell = std::max(cell, all.sizes().maxCoeff() / 64);
+      const Eigen::Array3i size = (all.sizes().array() / cell).ceil().cast<int>().max(1);
+      const auto cellOf = [&](const Eigen::Vector3d& x) {
+        return ((x - all.min()).array() / cell).floor().cast<int>().max(0).min(size - 1).eval();
+      };
+      std::vector<bool> reached(static_cast<std::size_t>(size.prod()), false);
+      const auto index = [&](int x, int y, int z) {
+        return (static_cast<std::size_t>(z) * static_cast<std::size_t>(size.y()) +
+                static_cast<std::size_t>(y)) *
+                   static_cast<std::size_t>(size.x()) +
+               static_cast<std::size_t>(x);
+      };
+      const auto forCells = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, auto f) {
+        const Eigen::Array3i a = cellOf(lo), b = cellOf(hi);
+        for (int z = a.z(); z <= b.z(); ++z)
+          for (int y = a.y(); y <= b.y(); ++y)
+            for (int x = a.x(); x <= b.x(); ++x)
+              if (f(index(x, y, z))) return true;
+        return false;
+      };
+      for (const Centre& c : centres) {
+        if (!c.hidden) continue;
+        const Eigen::Vector3d r = Eigen::Vector3d::Constant(c.reach + c.support);
+        forCells(c.place - r, c.place + r, [&](std::size_t i) {
+          reached[i] = true;
+          return false;
+        });
+      }
+      std::vector<int> near;
+      for (std::size_t t = 0; t + 2 < src.triangles.size(); t += 3) {
+        Eigen::AlignedBox3d box;
+        for (std::size_t k = 0; k < 3; ++k)
+          box.extend(sourceSpace.row(src.triangles[t + k]).transpose());
+        if (!box.intersects(all)) continue;
+        if (forCells(box.min(), box.max(), [&](std::size_t i) { return reached[i]; })) {
+          near.push_back(static_cast<int>(t / 3));
+        }
+      }
+      hiddenLayers = std::make_unique<SurfaceClosestPoint>(sourceSpace, src.triangles, near);
+    }
+  }
+  // The closest point of the source's surface to q, none if its triangle is of an excluded lip.
+  const auto closestOnSource = [&](const Eigen::Vector3d& q, std::uint8_t excluded) {
+    ClosestPoint hit = hiddenLayers->closest(q);
+    if (hit.triangle >= 0 && (tags[static_cast<std::size_t>(hit.triangle)] & excluded) != 0) {
+      hit.triangle = -1;
+    }
+    return hit;
+  };
+
   for (Eigen::Index t = 0; t < n; ++t) {
     if (options.progress && t % 4096 == 0)
       options.progress("mapping", 0.5 * static_cast<double>(t) / static_cast<double>(n));
@@ -497,65 +766,74 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       continue;
     }
     const Eigen::Vector2d p = aligned.row(t);
-    const LipRegion lip = map.targetLips[static_cast<std::size_t>(t)];
-    const LipRegion otherLip = lip == LipRegion::Upper   ? LipRegion::Lower
-                               : lip == LipRegion::Lower ? LipRegion::Upper
-                                                         : LipRegion::Outside;
-    const std::uint8_t excluded = otherLip == LipRegion::Lower   ? kLowerTag
-                                  : otherLip == LipRegion::Upper ? kUpperTag
-                                                                 : 0;
-    const double depth = tgt.depth[static_cast<std::size_t>(t)];
-    const Eigen::Vector2d side = alignedCentroid.row(t).transpose();
-    int same = samePlace.find(p, depth, SamePlace::kSame, side, otherLip, map.sourceLips);
-    TriangleWeights centre;
+    const Centre& c = centres[static_cast<std::size_t>(t)];
+    otherLip = c.otherLip;
+    const std::uint8_t excluded = c.excluded;
     const double below = belowTop[static_cast<std::size_t>(t)];
-    if (same < 0) {
-      centre = motion.locate(p, excluded, below);
-      // Under the outer surface, where the source has no layer as deep here (a steep fold,
-      // such as an eye socket's wall, covers little of the projection), the nearest source
-      // vertex is the better match.
-      if (centre.triangle >= 0 && below > 0) {
-        double there = 0;
-        for (std::size_t k = 0; k < 3; ++k) {
-          there += centre.weights[static_cast<Eigen::Index>(k)] *
-                   src.depth[static_cast<std::size_t>(centre.corners[k])];
-        }
-        same = samePlace.find(p, depth, std::abs(there - depth), side, otherLip, map.sourceLips);
+    TriangleWeights centre = c.weights;
+    ClosestPoint hidden;  // the centre sample matched in 3D
+    if (c.hidden) {
+      hidden = closestOnSource(c.place, excluded);
+      if (hidden.triangle >= 0 && (hidden.point - c.place).norm() < c.reach) {
+        centre.triangle = hidden.triangle;
+        centre.corners = hidden.corners;
+        centre.weights = hidden.weights;
+      } else {
+        hidden.triangle = -1;
       }
-    }
-    if (same >= 0) {  // the centre sample is that vertex (triangle: any valid index)
-      centre.triangle = 0;
-      centre.corners = {same, same, same};
-      centre.weights = Eigen::Vector3d(1, 0, 0);
-      centre.inside = true;
     }
     entries.clear();
-    // The filter: the centre and six points on a circle of diameter `support`, averaged.
-    double support = options.adaptiveFilter ? 0 : options.filterSupport;
-    if (!sourceEdge.empty() && centre.triangle >= 0) {
-      double here = 0;
-      for (int k = 0; k < 3; ++k) {
-        here += centre.weights[k] *
-                sourceEdge[static_cast<std::size_t>(centre.corners[static_cast<std::size_t>(k)])];
+    curve = c.curve;
+    const double support = c.support;
+    // The filter's samples around the centre, each where the source's surface lies there. A
+    // sample that lands on another part of the surface, more than three times as far in 3D as
+    // it lies from the centre in the projection (across a fold: the chin's underside, seen
+    // edge on by the cylinder, under the chin's front), is left out (ours).
+    samples.assign(1, {centre, p});
+    // The located point's place on the source's surface in its normalised space.
+    const auto placeOf = [&](const TriangleWeights& w) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (std::size_t k = 0; k < 3; ++k) {
+        x += w.weights[static_cast<Eigen::Index>(k)] * sourceSpace.row(w.corners[k]).transpose();
       }
-      const double there = targetEdge[static_cast<std::size_t>(t)];
-      // The distance to the nearest feature point matters only where the target is finer.
-      double featureDistance = 0;
-      if (options.smoothSupport > 0 && here > 3 * there) {
-        featureDistance = (fpSource.rowwise() - p.transpose()).rowwise().norm().minCoeff();
-      }
-      support = filterSupportAt(options, there, here, featureDistance);
+      return x;
+    };
+    const Eigen::Vector3d centreSpace =
+        centre.triangle >= 0 ? placeOf(centre) : Eigen::Vector3d::Zero();
+    // On a hidden layer the circle lies in the plane of the source triangle found in 3D.
+    Eigen::Vector3d e1 = Eigen::Vector3d::Zero(), e2 = e1;
+    if (hidden.triangle >= 0 && support > 0) {
+      const Eigen::Vector3d a = sourceSpace.row(hidden.corners[0]);
+      e1 = (Eigen::Vector3d(sourceSpace.row(hidden.corners[1])) - a).normalized();
+      e2 = (Eigen::Vector3d(sourceSpace.row(hidden.corners[2])) - a);
+      e2 = (e2 - e2.dot(e1) * e1).normalized();
     }
-    const double share = support > 0 ? 1.0 / 7 : 1.0;
-    addSample(centre, p, share);
     for (int k = 0; support > 0 && k < 6; ++k) {
       const double a = k * std::numbers::pi / 3;
       const Eigen::Vector2d q = p + 0.5 * support * Eigen::Vector2d(std::cos(a), std::sin(a));
-      addSample(motion.locate(q, excluded, below), q, share);
+      if (hidden.triangle < 0) {
+        const TriangleWeights w = motion.locate(q, excluded, below);
+        if (centre.inside && w.triangle >= 0 && (placeOf(w) - centreSpace).norm() > 1.5 * support) {
+          continue;
+        }
+        samples.push_back({w, q});
+        continue;
+      }
+      const ClosestPoint h = closestOnSource(
+          hidden.point + 0.5 * support * (std::cos(a) * e1 + std::sin(a) * e2), excluded);
+      if (h.triangle < 0) continue;
+      TriangleWeights w;
+      w.triangle = h.triangle;
+      w.corners = h.corners;
+      w.weights = h.weights;
+      w.inside = true;
+      samples.push_back({w, q});
     }
+    for (const auto& [w, q] : samples) addSample(w, q, 1.0 / static_cast<double>(samples.size()));
     for (const auto& [s, weight] : entries) {
       map.source.push_back(s);
       map.weight.push_back(weight);
+      entryOf[static_cast<std::size_t>(s)] = -1;
     }
     map.rowStart.push_back(static_cast<int>(map.source.size()));
   }

@@ -60,4 +60,9 @@ Eigen::Vector2d project(const FaceFrame& frame, const Eigen::Vector3d& p, double
   return {frame.radius * angle, q.y()};
 }
 
+Eigen::Vector3d unproject(const FaceFrame& frame, const Eigen::Vector2d& uv, double depth) {
+  const double angle = uv.x() / frame.radius;
+  return {-depth * std::sin(angle), uv.y(), -depth * std::cos(angle)};
+}
+
 }  // namespace mpeg4face::clone

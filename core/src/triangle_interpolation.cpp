@@ -39,7 +39,7 @@ Eigen::Vector3d clampBarycentric(const Eigen::Vector3d& b) {
 
 TriangleInterpolator::TriangleInterpolator(Points2 points, std::vector<int> triangles,
                                            std::vector<double> depth,
-                                           std::vector<std::uint8_t> tags)
+                                           std::vector<std::uint8_t> tags, bool closestFallback)
     : points_(std::move(points)), depth_(std::move(depth)) {
   if (triangles.size() % 3 != 0) throw Error("triangle list length is not a multiple of 3");
   if (!depth_.empty() && depth_.size() != static_cast<std::size_t>(points_.rows())) {
@@ -84,7 +84,7 @@ TriangleInterpolator::TriangleInterpolator(Points2 points, std::vector<int> tria
   for (int t = 0; t < n; ++t)
     members[static_cast<std::size_t>(levelOf[static_cast<std::size_t>(t)])].push_back(t);
   for (const std::vector<int>& ids : members) {
-    if (ids.empty()) continue;
+    if (ids.empty() || !closestFallback) continue;
     Level& level = levels_.emplace_back();
     for (int t : ids) level.maxEdge = std::max(level.maxEdge, edges[static_cast<std::size_t>(t)]);
     // Cells of about the level's edge, at most about 4 per triangle.

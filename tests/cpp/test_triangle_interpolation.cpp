@@ -59,6 +59,16 @@ TEST(TriangleInterpolation, OutsideUsesClosestTriangleByExcessBarycentricDistanc
   EXPECT_NEAR(interpolate(w, {0, 0, 0, 1, 3, 5}), 2.0 / 3 * 3 + 1.0 / 3 * 5, 1e-12);
 }
 
+// Without the fallback (closestFallback false) a point inside no triangle gets none; inside,
+// the same weights.
+TEST(TriangleInterpolation, WithoutFallbackOutsideGetsNone) {
+  const TriangleInterpolator interp(pointsOf({{0, 0}, {2, 0}, {0, 2}}), {0, 1, 2}, {}, {}, false);
+  EXPECT_EQ(interp.locate({3, 1}).triangle, -1);
+  const TriangleWeights w = interp.locate({0.5, 0.5});
+  ASSERT_EQ(w.triangle, 0);
+  EXPECT_NEAR(interpolate(w, {1, 3, 5}), 0.5 * 1 + 0.25 * 3 + 0.25 * 5, 1e-12);
+}
+
 // The measure is the paper's, not the Euclidean distance: P(-0.5, 5) is 0.5 from the long
 // thin triangle (0,0)(0,10)(0.1,5) (b = (3, 3, -5), excess 9) and sqrt(1.25) from
 // (-3,6)(-1,6)(-3,8) (b = (0.25, 1.25, -0.5), excess 0.75), which the paper's rule takes,

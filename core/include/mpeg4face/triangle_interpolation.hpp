@@ -38,9 +38,10 @@ class TriangleInterpolator {
   // `triangles`: three point indices each. `depth`: one per point (empty: all 0); where
   // triangles overlap, the one with the smallest interpolated depth wins. `tags`: one bit
   // set per triangle (empty: all 0); a query may exclude triangles carrying given bits.
-  // Degenerate triangles (zero area) are left out.
+  // Degenerate triangles (zero area) are left out. `closestFallback` false: a point inside no
+  // triangle gets none (triangle -1), and the fallback's grids are not made.
   TriangleInterpolator(Points2 points, std::vector<int> triangles, std::vector<double> depth = {},
-                       std::vector<std::uint8_t> tags = {});
+                       std::vector<std::uint8_t> tags = {}, bool closestFallback = true);
 
   // `belowTop` > 0: of the triangles holding p, the one whose depth is nearest to the
   // smallest one's plus belowTop (a point under the outer surface: a fold, an inner layer).
