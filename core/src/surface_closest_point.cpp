@@ -61,7 +61,11 @@ SurfaceClosestPoint::~SurfaceClosestPoint() = default;
 ClosestPoint SurfaceClosestPoint::closest(const Eigen::Vector3d& q) const {
   ClosestPoint r;
   if (tree_->shapes.empty()) return r;
-  const auto [p, shape] = tree_->tree.closest_point_and_primitive(point(q));
+  // Not a structured binding: a lambda below uses the primitive, and clang before 16 cannot
+  // capture a binding (the fuzz and sanitizer builds use clang).
+  const auto found = tree_->tree.closest_point_and_primitive(point(q));
+  const auto& p = found.first;
+  const auto shape = found.second;
   const auto i = static_cast<std::size_t>(shape - tree_->shapes.cbegin());
   r.triangle = tree_->ids[i];
   r.corners = tree_->corners[i];
