@@ -554,14 +554,14 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   const SamePlace samePlace(src, sourceCentroid);
   const Points2 alignedCentroid = meanTriangleCentroid(aligned, tgt.triangles);
 
-  // The source's depth interpolated at a located point.
-  const auto depthAt = [&](const TriangleWeights& w) {
-    double d = 0;
+  // A per-point value of the source (its depth, its local edge length) interpolated at a
+  // located point.
+  const auto valueAt = [](const TriangleWeights& w, const std::vector<double>& values) {
+    double v = 0;
     for (std::size_t k = 0; k < 3; ++k) {
-      d += w.weights[static_cast<Eigen::Index>(k)] *
-           src.depth[static_cast<std::size_t>(w.corners[k])];
+      v += w.weights[static_cast<Eigen::Index>(k)] * values[static_cast<std::size_t>(w.corners[k])];
     }
-    return d;
+    return v;
   };
   map.rowStart.reserve(static_cast<std::size_t>(n) + 1);
   map.rowStart.push_back(0);
@@ -627,7 +627,6 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     double curve = 0;       // how much of the quadratic interpolation
   };
   std::vector<Centre> centres(static_cast<std::size_t>(n));
-  Eigen::AlignedBox3d reachBox;
   for (Eigen::Index t = 0; t < n; ++t) {
     if (!used[static_cast<std::size_t>(t)]) continue;
     Centre& c = centres[static_cast<std::size_t>(t)];
@@ -654,12 +653,8 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     // The filter: the centre and six points on a circle of diameter `support`, averaged.
     c.support = options.adaptiveFilter ? 0 : options.filterSupport;
     if (!sourceEdge.empty() && c.weights.triangle >= 0) {
-      double here = 0, here3 = 0;
-      for (std::size_t k = 0; k < 3; ++k) {
-        const auto s = static_cast<std::size_t>(c.weights.corners[k]);
-        here += c.weights.weights[static_cast<Eigen::Index>(k)] * sourceEdge[s];
-        here3 += c.weights.weights[static_cast<Eigen::Index>(k)] * sourceEdge3[s];
-      }
+      const double here = valueAt(c.weights, sourceEdge);
+      const double here3 = valueAt(c.weights, sourceEdge3);
       const double there = targetEdge[static_cast<std::size_t>(t)];
       const double there3 = targetEdge3[static_cast<std::size_t>(t)];
       // The distance to the nearest feature point matters only where the target is finer.
@@ -680,16 +675,12 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       // outer surface as it lies under its own; where the source's surface is less than half
       // as far from it in 3D as the layer found in the projection, its closest point there
       // is taken instead (ours).
-      const double wanted = depthAt(motion.locate(p, c.excluded)) + below;
+      const double wanted = valueAt(motion.locate(p, c.excluded), src.depth) + below;
       c.place = unproject(sourceFrame, p, wanted);
-      c.reach = 0.5 * std::abs(depthAt(c.weights) - wanted);
+      c.reach = 0.5 * std::abs(valueAt(c.weights, src.depth) - wanted);
       // Where the layer found is already within an eighth of the source's local edge, the 3D
       // match would change little: not searched.
-      double edge = 0;
-      for (std::size_t k = 0; k < 3 && !sourceEdge3.empty(); ++k) {
-        edge += c.weights.weights[static_cast<Eigen::Index>(k)] *
-                sourceEdge3[static_cast<std::size_t>(c.weights.corners[k])];
-      }
+      const double edge = sourceEdge3.empty() ? 0 : valueAt(c.weights, sourceEdge3);
       c.hidden = c.reach > 0.125 * edge;
     }
   }
