@@ -683,6 +683,25 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
       const double edge = sourceEdge3.empty() ? 0 : valueAt(c.weights, sourceEdge3);
       c.hidden = c.reach > 0.125 * edge;
     }
+    if (same < 0 && !c.hidden && c.curve > 0 && c.weights.inside) {
+      // On a finer target (where it is interpolated quadratically) the points lie on the smooth
+      // surface, a little off the source's flat triangles. Where the cylinder sees the source
+      // edge on (the chin's underside: its normal more than 60 degrees from the radial
+      // direction), that lands them far along the surface in the projection; they are matched
+      // in 3D at their own depth instead, within one source edge (ours).
+      const auto corner = [&](int k) -> Eigen::Vector3d {
+        return sourceSpace.row(src.triangles[3 * static_cast<std::size_t>(c.weights.triangle) +
+                                             static_cast<std::size_t>(k)]);
+      };
+      const Eigen::Vector3d normal = (corner(1) - corner(0)).cross(corner(2) - corner(0));
+      const Eigen::Vector3d at = unproject(sourceFrame, p, valueAt(c.weights, src.depth));
+      const Eigen::Vector3d radial(at.x(), 0, at.z());
+      if (std::abs(normal.dot(radial)) < 0.5 * normal.norm() * radial.norm()) {
+        c.place = unproject(sourceFrame, p, depth);
+        c.reach = valueAt(c.weights, sourceEdge3);
+        c.hidden = c.reach > 0;
+      }
+    }
   }
   // The closest-point tree holds the source's triangles that a 3D match or its filter's
   // samples can reach: those whose box meets a cell of a grid that such a point's reach and
@@ -727,8 +746,17 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
           return false;
         });
       }
+      // With the triangle each point was located in by the projection: a start for its search.
+      std::vector<bool> start(src.triangles.size() / 3, false);
+      for (const Centre& c : centres) {
+        if (c.hidden) start[static_cast<std::size_t>(c.weights.triangle)] = true;
+      }
       std::vector<int> near;
       for (std::size_t t = 0; t + 2 < src.triangles.size(); t += 3) {
+        if (start[t / 3]) {
+          near.push_back(static_cast<int>(t / 3));
+          continue;
+        }
         Eigen::AlignedBox3d box;
         for (std::size_t k = 0; k < 3; ++k)
           box.extend(sourceSpace.row(src.triangles[t + k]).transpose());
@@ -741,14 +769,23 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     }
   }
   // The closest point of the source's surface to q, none if its triangle is of an excluded lip.
-  const auto closestOnSource = [&](const Eigen::Vector3d& q, std::uint8_t excluded) {
-    ClosestPoint hit = hiddenLayers->closest(q);
+  const auto closestOnSource = [&](const Eigen::Vector3d& q, std::uint8_t excluded,
+                                   const ClosestPoint& hint) {
+    ClosestPoint hit = hiddenLayers->closest(q, &hint);
     if (hit.triangle >= 0 && (tags[static_cast<std::size_t>(hit.triangle)] & excluded) != 0) {
       hit.triangle = -1;
     }
     return hit;
   };
 
+  // The located point's place on the source's surface in its normalised space.
+  const auto placeOf = [&](const TriangleWeights& w) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < 3; ++k) {
+      x += w.weights[static_cast<Eigen::Index>(k)] * sourceSpace.row(w.corners[k]).transpose();
+    }
+    return x;
+  };
   for (Eigen::Index t = 0; t < n; ++t) {
     if (options.progress && t % 4096 == 0)
       options.progress("mapping", 0.5 * static_cast<double>(t) / static_cast<double>(n));
@@ -764,7 +801,10 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     TriangleWeights centre = c.weights;
     ClosestPoint hidden;  // the centre sample matched in 3D
     if (c.hidden) {
-      hidden = closestOnSource(c.place, excluded);
+      ClosestPoint located;
+      located.triangle = c.weights.triangle;
+      located.point = placeOf(c.weights);
+      hidden = closestOnSource(c.place, excluded, located);
       if (hidden.triangle >= 0 && (hidden.point - c.place).norm() < c.reach) {
         centre.triangle = hidden.triangle;
         centre.corners = hidden.corners;
@@ -781,14 +821,6 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
     // it lies from the centre in the projection (across a fold: the chin's underside, seen
     // edge on by the cylinder, under the chin's front), is left out (ours).
     samples.assign(1, {centre, p});
-    // The located point's place on the source's surface in its normalised space.
-    const auto placeOf = [&](const TriangleWeights& w) {
-      Eigen::Vector3d x = Eigen::Vector3d::Zero();
-      for (std::size_t k = 0; k < 3; ++k) {
-        x += w.weights[static_cast<Eigen::Index>(k)] * sourceSpace.row(w.corners[k]).transpose();
-      }
-      return x;
-    };
     const Eigen::Vector3d centreSpace =
         centre.triangle >= 0 ? placeOf(centre) : Eigen::Vector3d::Zero();
     // On a hidden layer the circle lies in the plane of the source triangle found in 3D.
@@ -811,7 +843,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
         continue;
       }
       const ClosestPoint h = closestOnSource(
-          hidden.point + 0.5 * support * (std::cos(a) * e1 + std::sin(a) * e2), excluded);
+          hidden.point + 0.5 * support * (std::cos(a) * e1 + std::sin(a) * e2), excluded, hidden);
       if (h.triangle < 0) continue;
       TriangleWeights w;
       w.triangle = h.triangle;

@@ -37,6 +37,7 @@ Eigen::Vector3d weightsOn(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
 struct SurfaceClosestPoint::Tree {
   std::vector<Triangle> shapes;
   std::vector<int> ids;                     // triangle index of each shape
+  std::vector<int> shapeOf;                 // shape of each triangle index, -1: not searched
   std::vector<std::array<int, 3>> corners;  // its point indices
   ::mpeg4face::Tree tree;
 };
@@ -51,6 +52,9 @@ SurfaceClosestPoint::SurfaceClosestPoint(const Points3& points, std::span<const 
                                point(points.row(c[2])));
     tree_->ids.push_back(t);
     tree_->corners.push_back({c[0], c[1], c[2]});
+    if (static_cast<std::size_t>(t) >= tree_->shapeOf.size())
+      tree_->shapeOf.resize(static_cast<std::size_t>(t) + 1, -1);
+    tree_->shapeOf[static_cast<std::size_t>(t)] = static_cast<int>(tree_->ids.size()) - 1;
   }
   tree_->tree.insert(tree_->shapes.cbegin(), tree_->shapes.cend());
   tree_->tree.build();
@@ -58,12 +62,19 @@ SurfaceClosestPoint::SurfaceClosestPoint(const Points3& points, std::span<const 
 
 SurfaceClosestPoint::~SurfaceClosestPoint() = default;
 
-ClosestPoint SurfaceClosestPoint::closest(const Eigen::Vector3d& q) const {
+ClosestPoint SurfaceClosestPoint::closest(const Eigen::Vector3d& q,
+                                          const ClosestPoint* hint) const {
   ClosestPoint r;
   if (tree_->shapes.empty()) return r;
+  const std::size_t hinted = hint ? static_cast<std::size_t>(hint->triangle) : 0;
+  const int start =
+      hint && hint->triangle >= 0 && hinted < tree_->shapeOf.size() ? tree_->shapeOf[hinted] : -1;
   // Not a structured binding: a lambda below uses the primitive, and clang before 16 cannot
   // capture a binding (the fuzz and sanitizer builds use clang).
-  const auto found = tree_->tree.closest_point_and_primitive(point(q));
+  const auto found = start < 0
+                         ? tree_->tree.closest_point_and_primitive(point(q))
+                         : tree_->tree.closest_point_and_primitive(
+                               point(q), {point(hint->point), tree_->shapes.cbegin() + start});
   const auto& p = found.first;
   const auto shape = found.second;
   const auto i = static_cast<std::size_t>(shape - tree_->shapes.cbegin());

@@ -29,7 +29,9 @@ class SurfaceClosestPoint {
   SurfaceClosestPoint(const SurfaceClosestPoint&) = delete;
   SurfaceClosestPoint& operator=(const SurfaceClosestPoint&) = delete;
 
-  ClosestPoint closest(const Eigen::Vector3d& q) const;
+  // `hint`, a point on one of the searched triangles near q, saves the search its start
+  // (without one CGAL builds a k-d tree of the triangles first).
+  ClosestPoint closest(const Eigen::Vector3d& q, const ClosestPoint* hint = nullptr) const;
 
  private:
   struct Tree;

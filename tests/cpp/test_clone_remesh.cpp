@@ -153,11 +153,8 @@ TEST(CloneRemesh, ADenseFaceOntoItsRemeshesKeepsItsMotion) {
           "  onto %5d vertices, %-7s (%s): %5zu moving, error p95 %.2f%%, max %.2f%% of the peak\n",
           target->meshes[0].vertexCount(), copies[u].name.c_str(), units[u].second.c_str(),
           errors.size(), 100 * p95, 100 * errors.back());
-      // The goal is 3% for both. The finer remesh does not reach it yet for the jaw:
-      // the smoothing of a much coarser source, which a few of its vertices get, blurs the
-      // chin's underside and the mouth's floor (docs/clone.md); its bound keeps what it reaches.
-      const double bound = finer && copies[u].name == "jaw" ? 0.035 : 0.03;
-      EXPECT_LE(p95, bound) << copies[u].name << " onto " << target->meshes[0].vertexCount();
+      // The goal: 3% of the peak (p95) on both remeshes.
+      EXPECT_LE(p95, 0.03) << copies[u].name << " onto " << target->meshes[0].vertexCount();
     }
   }
 }
