@@ -66,9 +66,11 @@ ClosestPoint SurfaceClosestPoint::closest(const Eigen::Vector3d& q,
                                           const ClosestPoint* hint) const {
   ClosestPoint r;
   if (tree_->shapes.empty()) return r;
-  const std::size_t hinted = hint ? static_cast<std::size_t>(hint->triangle) : 0;
-  const int start =
-      hint && hint->triangle >= 0 && hinted < tree_->shapeOf.size() ? tree_->shapeOf[hinted] : -1;
+  int start = -1;  // the hint's shape, if its triangle is searched
+  if (hint && hint->triangle >= 0 &&
+      static_cast<std::size_t>(hint->triangle) < tree_->shapeOf.size()) {
+    start = tree_->shapeOf[static_cast<std::size_t>(hint->triangle)];
+  }
   // Not a structured binding: a lambda below uses the primitive, and clang before 16 cannot
   // capture a binding (the fuzz and sanitizer builds use clang).
   const auto found = start < 0
