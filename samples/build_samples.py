@@ -324,8 +324,11 @@ def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
         same = [name for name in keys
                 if (parsed := mpeg4face.parse_shape_key_name(name))["fap"] == m.fap
                 and np.sign(parsed["amplitude"]) == np.sign(m.value)]
-        reach = max((abs(mpeg4face.parse_shape_key_name(n)["amplitude"]) for n in same),
-                    default=0)
+        # The source's keys themselves, not the copies that hold them past their amplitude
+        # (arkit_fap_keys' _reach and _held).
+        reach = max((abs(parsed["amplitude"]) for n in same
+                     if not (parsed := mpeg4face.parse_shape_key_name(n))["label"].endswith(
+                         ("_reach", "_held"))), default=0)
         if abs(m.value) < COVERAGE * reach:
             m.used = False
             m.reason += (f"; not used: the cloned key reaches {reach}, the unit "

@@ -100,6 +100,8 @@ void bindCapture(py::module_& m) {
                     "(3V, C) each FAP side's motion per FAPU over the area.");
   face.def_readonly("column_fap", &ArkitCaptureFace::columnFap);
   face.def_readonly("column_sign", &ArkitCaptureFace::columnSign);
+  face.def_readonly("column_reach", &ArkitCaptureFace::columnReach,
+                    "How far each column's FAP value stays linear (inf: without end).");
   face.def_readonly("from_tables", &ArkitCaptureFace::fromTables,
                     "True if the FAP columns come from the face's FAP keys.");
   face.def_readonly("warnings", &ArkitCaptureFace::warnings);

@@ -18,6 +18,9 @@ import mpeg4face
 
 from . import fp_logic, shape_keys
 
+# The labels' endings of the copies arkit_fap_keys adds to hold a FAP key past its reach.
+HELD_COPIES = ("_reach", "_held")
+
 Array = npt.NDArray[np.float64]
 
 
@@ -49,6 +52,7 @@ class ArkitKeysReport:
     missed: list[str] = field(default_factory=list)
     visemes: int = 0
     expressions: int = 0
+    held: int = 0  # the copies holding FAP keys past their reach (docs/arkit.md, "Held keys")
     written: int = 0
     replaced: int = 0
     warnings: list[str] = field(default_factory=list)
@@ -56,8 +60,8 @@ class ArkitKeysReport:
     def summary(self) -> str:
         return (f"{self.head}: {len(self.made)} FAP keys, {self.visemes} viseme and "
                 f"{self.expressions} expression keys from its ARKit keys ({self.written} "
-                f"shape keys written, {self.replaced} replaced); {len(self.missed)} FAPs "
-                "missed")
+                f"shape keys written with {self.held} copies holding the FAP keys past their "
+                f"reach, {self.replaced} replaced); {len(self.missed)} FAPs missed")
 
     def lines(self) -> list[str]:
         return [self.summary(), "Made (amplitude in FAPU units; residual: other feature "
@@ -81,6 +85,7 @@ def keys_report(head: str, result: Mapping[str, object], written: Sequence[str],
         parsed = shape_keys.parse(name)
         report.visemes += parsed["fap"] == 1
         report.expressions += parsed["fap"] == 2
+        report.held += parsed["fap"] > 2 and parsed["label"].endswith(HELD_COPIES)
     return report
 
 

@@ -312,30 +312,56 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
     const FatEvaluator evaluator(out.face, out.fapu);
     const FatState neutralState = evaluator.neutralState();
     FatState state = evaluator.neutralState();
-    // Each table's motion of the area per unit, at its outermost border on each side.
+    const auto areaMotion = [&](int fap, int value) {
+      FapFrame frame;
+      frame.set(fap, value);
+      evaluator.evaluate(frame, state);
+      Eigen::VectorXd column = Eigen::VectorXd::Zero(rows);
+      for (std::size_t r = 0; r < out.area.size(); ++r) {
+        const auto [mesh, vertex] = out.area[r];
+        const auto ms = static_cast<std::size_t>(mesh);
+        column.segment<3>(3 * static_cast<Eigen::Index>(r)) =
+            world[ms].linear() *
+            (state.coord[ms].row(vertex) - neutralState.coord[ms].row(vertex)).transpose();
+      }
+      return column;
+    };
+    // Each table's motion of the area per unit on each side, at its innermost border there
+    // (a key), and how far that motion stays linear: a table held flat past its key
+    // (arkit_keys.cpp, kKeyReach) reaches no further, one whose outermost interval continues
+    // is linear without end. A side without borders of its own is the one interval's
+    // signed continuation (rule 6).
     const auto columnsOf = [&](const std::vector<const FaceDefTables*>& list,
-                               std::vector<int>& faps, std::vector<int>& signs) {
+                               std::vector<int>& faps, std::vector<int>& signs,
+                               std::vector<double>& reach) {
       std::vector<Eigen::VectorXd> columns;
       for (const FaceDefTables* t : list) {
-        const double amplitude = largestBorder(*t);
         for (int sign : {1, -1}) {
           if (sign < 0 && !fapInfo(t->fapID).bidirectional) continue;
-          FapFrame frame;
-          frame.set(t->fapID, sign * static_cast<int>(amplitude));
-          evaluator.evaluate(frame, state);
-          Eigen::VectorXd column = Eigen::VectorXd::Zero(rows);
-          for (std::size_t r = 0; r < out.area.size(); ++r) {
-            const auto [mesh, vertex] = out.area[r];
-            const auto ms = static_cast<std::size_t>(mesh);
-            column.segment<3>(3 * static_cast<Eigen::Index>(r)) =
-                world[ms].linear() *
-                (state.coord[ms].row(vertex) - neutralState.coord[ms].row(vertex)).transpose() /
-                amplitude;
+          std::set<int> side;  // |border| on this side
+          for (const FaceDefMesh& m : t->faceDefMesh) {
+            for (int b : m.intervalBorders) {
+              if (b * sign > 0) side.insert(std::abs(b));
+            }
           }
+          const int amplitude = side.empty() ? static_cast<int>(largestBorder(*t)) : *side.begin();
+          Eigen::VectorXd column = areaMotion(t->fapID, sign * amplitude) / amplitude;
           if (column.cwiseAbs().maxCoeff() <= 0) continue;
+          double linear = kInfinity;
+          int previous = amplitude;
+          for (int b : side) {
+            if (b == amplitude) continue;
+            const Eigen::VectorXd further = areaMotion(t->fapID, sign * b) / b;
+            if ((further - column).norm() > 1e-3 * column.norm()) {
+              linear = previous;
+              break;
+            }
+            previous = b;
+          }
           columns.push_back(std::move(column));
           faps.push_back(t->fapID);
           signs.push_back(sign);
+          reach.push_back(linear);
         }
       }
       Eigen::MatrixXd motion(rows, static_cast<Eigen::Index>(columns.size()));
@@ -344,8 +370,9 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
       }
       return motion;
     };
-    out.fapMotion = columnsOf(tables, out.columnFap, out.columnSign);
-    angleMotion = columnsOf(angleTables, out.angleColumnFap, out.angleColumnSign);
+    out.fapMotion = columnsOf(tables, out.columnFap, out.columnSign, out.columnReach);
+    std::vector<double> angleReach;  // the angle FAPs are not solved for
+    angleMotion = columnsOf(angleTables, out.angleColumnFap, out.angleColumnSign, angleReach);
   } else {
     std::size_t count = 0;
     for (const DefinitionColumn& d : definition) count += fapInfo(d.fap).bidirectional ? 2 : 1;
@@ -357,6 +384,7 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
         out.fapMotion.block<3, 1>(3 * d.row, c++) = sign * d.motion;
         out.columnFap.push_back(d.fap);
         out.columnSign.push_back(sign);
+        out.columnReach.push_back(kInfinity);
       }
     }
   }
@@ -373,7 +401,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
   const int jaw = jawOpenChannel();
   for (std::size_t c = 0; c < out.columnFap.size(); ++c) {
     const auto col = static_cast<Eigen::Index>(c);
-    if (out.columnFap[c] != 3 || out.columnSign[c] < 0 || !out.hasShape[static_cast<std::size_t>(jaw)])
+    if (out.columnFap[c] != 3 || out.columnSign[c] < 0 ||
+        !out.hasShape[static_cast<std::size_t>(jaw)])
       continue;
     out.jawColumn = static_cast<int>(c);
     out.jawPerWeight = std::max(0.0, out.fapRhs(col, jaw) / out.fapMotion.col(col).squaredNorm());
@@ -410,7 +439,7 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
 
   const auto columns = face.fapMotion.cols();
   const Eigen::VectorXd lower = Eigen::VectorXd::Zero(columns);
-  const Eigen::VectorXd upper = Eigen::VectorXd::Constant(columns, kInfinity);
+  const Eigen::VectorXd upper = Eigen::Map<const Eigen::VectorXd>(face.columnReach.data(), columns);
   Eigen::VectorXd x = lower, b;
   Eigen::VectorXd weights(kLiveLinkChannelCount);
   std::vector<bool> locked(static_cast<std::size_t>(columns));

@@ -120,6 +120,52 @@ std::span<const int> siblingFaps(int fap) {
 constexpr double kAreaPower = 2.0;
 constexpr double kSiblingPower = 0.5;
 
+// A FAP key is made of ARKit shapes at weights up to 1, some at 1: sculpted no further. Its
+// table is linear to kKeyReach times the amplitude and held there (a copy at twice that with
+// the same motion), so a stream sending a FAP far past its key holds the shapes instead of
+// driving them many times over: the Xface fear stream lowers the lower lip by -866 where
+// FAP 10's key reaches -135, and linear tables tore the lip at the corners and through the
+// chin. Siblings moving their points the same way share one reach on each side, the
+// smallest of theirs: sent together at one value, as streams send them, they stop together
+// (a sibling going on alone stood out of the lip in a spike). The capture's solver stops at
+// the same reach: 3 keeps its round trip within bound with a margin, 4 lets fear's mouth
+// corners tear again (docs/arkit.md, "Held keys").
+constexpr double kKeyReach = 3;
+
+// Each key's reach, 0 for keys not held: the eyeball turns and the jaw FAPs, whose motion
+// may be a Transform's (a turned eye; a head's lower teeth following the chin) and a
+// FaceDefTransform is linear. A key beyond its siblings' reach is brought back to it: its
+// amplitude and weights scaled to the reach, the same table up to it.
+std::vector<int> holdAtReach(ArkitMapping& mapping) {
+  const auto own = [](const ArkitFapKey& k) {
+    return static_cast<int>(std::lround(kKeyReach * k.amplitude));
+  };
+  const auto held = [](const ArkitFapKey& k) {
+    return k.transform < 0 && k.fap != 3 && k.fap != 14 && k.fap != 15;
+  };
+  std::vector<int> reach;
+  for (const ArkitFapKey& key : mapping.keys) {
+    int r = held(key) ? own(key) : 0;
+    const std::span<const int> group = siblingFaps(key.fap);
+    for (const ArkitFapKey& other : mapping.keys) {
+      if (r != 0 && other.amplitude * key.amplitude > 0 &&
+          std::find(group.begin(), group.end(), other.fap) != group.end() &&
+          fapInfo(other.fap).positiveMotion == fapInfo(key.fap).positiveMotion &&
+          std::abs(own(other)) < std::abs(r)) {
+        r = own(other);
+      }
+    }
+    reach.push_back(r);
+  }
+  for (std::size_t k = 0; k < reach.size(); ++k) {
+    ArkitFapKey& key = mapping.keys[k];
+    if (reach[k] == 0 || std::abs(reach[k]) >= std::abs(key.amplitude)) continue;
+    for (auto& weight : key.weights) weight.second *= static_cast<double>(reach[k]) / key.amplitude;
+    key.amplitude = reach[k];
+  }
+  return reach;
+}
+
 // The FAPs of the areas several FAPs share (the lips, chin, cheeks, brows and nose).
 std::vector<int> areaFaps() {
   std::vector<int> faps;
@@ -338,6 +384,7 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
     out.warnings.push_back(name + " is not measured: the FAPs in its unit get no keys");
   }
   out.mapping = mapArkitToFaps(out.head, out.shapes, fapu);
+  const std::vector<int> reach = holdAtReach(out.mapping);
 
   std::vector<std::vector<MorphTarget>> added(out.head.meshes.size());
   std::vector<std::vector<MorphTarget>> localisedAdded(out.head.meshes.size());
@@ -356,9 +403,10 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
     if (it == shares.end()) it = shares.try_emplace(key, out.head, mesh, faps, power).first;
     return it->second;
   };
-  for (const ArkitFapKey& key : out.mapping.keys) {
-    const std::string name =
-        formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)});
+  for (std::size_t k = 0; k < out.mapping.keys.size(); ++k) {
+    const ArkitFapKey& key = out.mapping.keys[k];
+    const std::string label(fapInfo(key.fap).name);
+    const std::string name = formatShapeKeyName({key.fap, 0, key.amplitude, label});
     // An eyeball turn: the eye's Transform turns; the shape still moves the lids.
     std::vector<int> turned;
     if (key.transform >= 0) {
@@ -387,7 +435,20 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
       if (m == pointMesh) {
         sharesOf(m, siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
       }
-      added[static_cast<std::size_t>(m)].push_back({name, std::move(d)});
+      auto& keys = added[static_cast<std::size_t>(m)];
+      if (reach[k] == 0) {
+        keys.push_back({name, std::move(d)});
+        continue;
+      }
+      // Linear to the reach (a copy carrying the key on, unless the key is at it), held from
+      // twice that.
+      Points3 far = d * (static_cast<double>(reach[k]) / key.amplitude);
+      keys.push_back({name, std::move(d)});
+      if (reach[k] != key.amplitude) {
+        keys.push_back({formatShapeKeyName({key.fap, 0, reach[k], label + "_reach"}), far});
+      }
+      keys.push_back(
+          {formatShapeKeyName({key.fap, 0, 2 * reach[k], label + "_held"}), std::move(far)});
     }
   }
   if (!highLevel) {

@@ -295,11 +295,12 @@ TEST(Arkit, VisemeKeysAreShapesNearEachVisemeAloneFromTheNeutral) {
   const ArkitKeys keys = arkitFapKeys(arkitTestHeadWithShapes());
   const std::vector<MorphTarget>& targets = keys.head.meshes[0].morphTargets;
   const int chin = keys.head.featurePoints.at("2.1").vertex;
-  // The chin's motion in each FAP key, by FAP and sign: (amplitude, motion).
+  // The chin's motion in each FAP key, by FAP and sign: (amplitude, motion); not the copies
+  // that hold it past its reach.
   std::map<std::pair<int, bool>, std::pair<int, double>> keyed;
   for (const MorphTarget& t : targets) {
     const std::optional<ShapeKeyName> k = parseShapeKeyName(t.name);
-    if (k && k->fapID >= 3)
+    if (k && k->fapID >= 3 && !k->label.ends_with("_reach") && !k->label.ends_with("_held"))
       keyed[{k->fapID, k->amplitude > 0}] = {k->amplitude, t.displacements(chin, 1)};
   }
   // The viseme keys are made from the area FAPs' keys localised by Shepard's inverse-square

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import mpeg4face
-from mpeg4face_blender import arkit_logic, fp_logic
+from mpeg4face_blender import arkit_logic, fp_logic, shape_keys
 
 # The ARKit shapes of the Blender test (tests/blender/conftest.py is bpy-free at import).
 _spec = importlib.util.spec_from_file_location(
@@ -63,7 +63,13 @@ def test_keys_report(keys):
     made = arkit_logic.made_keys(keys["head"])
     report = arkit_logic.keys_report("candide3", keys, list(made), replaced=0)
     assert len(report.made) == len(keys["mapping"]) and len(report.missed) == len(keys["missed"])
-    assert report.visemes + report.expressions + len(report.made) == len(made)
+    assert report.visemes + report.expressions + len(report.made) + report.held == len(made)
+    # Every FAP key but the jaw's and the eyeball turns' is held past its reach, by one copy
+    # (_held) or two (_reach, _held): docs/arkit.md, "Held keys".
+    held = [n for n in made if shape_keys.parse(n)["label"].endswith("_held")]
+    assert len(held) == sum(k["fap"] not in (3, 14, 15) and k["transform"] is None
+                            for k in keys["mapping"])
+    assert len(held) <= report.held <= 2 * len(held)
     assert report.summary().startswith(f"candide3: {len(report.made)} FAP keys, ")
     assert any(r.startswith("fap3_open_jaw@") for r in report.made)
     # The tongue has no ARKit shape here: missed, with the core's reason.

@@ -221,10 +221,47 @@ def test_each_fap_key_moves_its_feature_point_by_its_amplitude(built):
         if direction is None or not info.fapu or binding is None or binding.vertex < 0:
             continue
         moved = displacements[binding.mesh][binding.vertex] @ np.asarray(direction, float)
-        want = parsed["amplitude"] * fapu.unit(info.fapu)
+        # A copy holding the key past its reach is at twice the reach (docs/arkit.md).
+        held = 2 if parsed["label"].endswith("_held") else 1
+        want = parsed["amplitude"] / held * fapu.unit(info.fapu)
         assert abs(moved - want) <= 0.15 * abs(want), (name, moved, want)
         measured += 1
     assert measured >= 30
+
+
+def test_fap_keys_hold_past_their_siblings_reach(built):
+    """The lower lip's FAPs sent together far past their keys (the Xface fear stream's
+    -866) stop at one reach, three times the smallest key of the six, and the lip keeps
+    its shape there: no sibling goes on alone."""
+    head, fapu = built
+    lower_lip = (5, 10, 11, 52, 57, 58)
+    keys = fap_keys(head)
+    amplitudes = {p["fap"]: p["amplitude"] for p, _ in keys.values()
+                  if p["fap"] in lower_lip and p["amplitude"] < 0 and p["label"] ==
+                  mpeg4face.fap(p["fap"]).name}
+    assert sorted(amplitudes) == sorted(lower_lip)
+    reach = 3 * max(amplitudes.values())  # the smallest, negative
+    assert all(a >= reach for a in amplitudes.values())
+    evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(head)["face"])
+    skin = head.find_mesh("skin")
+    neutral = evaluator.neutral()["coord"][skin]
+
+    def lip_motion(value: int) -> np.ndarray:
+        stream = mpeg4face.FapStream.from_arrays(
+            np.array([0]), np.isin(np.arange(1, 69), lower_lip)[None],
+            np.where(np.isin(np.arange(1, 69), lower_lip), value, 0)[None].astype(np.int32))
+        return evaluator.evaluate(stream, 0)["coord"][skin] - neutral
+
+    at_reach, far = lip_motion(reach), lip_motion(3 * reach)
+    np.testing.assert_allclose(far, at_reach, atol=1e-9)
+    halfway = lip_motion(reach // 2)
+    assert np.linalg.norm(halfway) == pytest.approx(np.linalg.norm(at_reach) / 2, rel=0.01)
+    # At the reach every lower-lip point has moved down by it, within the keys' 15%.
+    for fap in lower_lip:
+        binding = head.feature_points[mpeg4face.fap(fap).feature_point]
+        assert binding.mesh == skin
+        moved = -at_reach[binding.vertex][1]
+        assert moved == pytest.approx(-reach * fapu.unit("MNS"), rel=0.15), fap
 
 
 def test_open_jaw_at_jawopens_amplitude_parts_the_inner_lips(built):

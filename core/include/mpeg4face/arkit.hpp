@@ -143,12 +143,13 @@ struct ArkitKeysOptions {
 struct ArkitKeys {
   FaceModel head;        // the input with its keys
   ArkitShapes shapes;    // findArkitShapes(head)
-  ArkitMapping mapping;  // mapArkitToFaps on it
+  ArkitMapping mapping;  // mapArkitToFaps on it, keys past their siblings' reach brought to it
   std::vector<std::string> warnings;
 };
 // The head with a morph target fap<N>_<name>@<amplitude> per key of the mapping (eyeball
-// rotations as poses: animations of that name rotating the eye's Transform), and viseme<N>
-// and expression<N>_<name> keys (and poses where a Transform moves) evaluated each alone
+// rotations as poses: animations of that name rotating the eye's Transform) with the copies
+// that hold it past its reach (_reach, _held: docs/arkit.md, "Held keys"), and viseme<N> and
+// expression<N>_<name> keys (and poses where a Transform moves) evaluated each alone
 // from the neutral face with the FAPs the viseme and expression FIT presets give it. Keys
 // and poses already named in the grammar are replaced. Ready for faceFromShapeKeys / `fat
 // generate`. Throws mpeg4face::Error as findArkitShapes, and when the FAPU cannot be measured.

@@ -34,6 +34,9 @@ struct ArkitCaptureFace {
   Eigen::MatrixXd fapMotion;
   std::vector<int> columnFap;
   std::vector<int> columnSign;
+  // How far each column's FAP value (in FAPU) keeps its motion linear, +inf without end: the
+  // solver's upper bound (a FAP key held past its amplitude moves no further).
+  std::vector<double> columnReach;
   // True when the columns come from the face's FaceDefTables (FAP keys); false when the face
   // has none and each FAP moves its own feature point along its direction (the definition).
   bool fromTables = false;
