@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -147,6 +148,32 @@ TEST(ArkitCapture, PreparesTheFace) {
   EXPECT_NE(face.warnings[0].find("CheekPuff"), std::string::npos);
   // FAP 3 is unidirectional: one column; the others have both sides.
   EXPECT_EQ(face.columnFap.size(), 11u);
+}
+
+TEST(ArkitCapture, ValuesStopWhereAKeysTableIsHeld) {
+  // FAP 19's table held flat past its key (a copy at twice the amplitude with the same
+  // motion, as arkitFapKeys writes them): its column reaches 300, the others' have no end.
+  FaceModel head = syntheticHead(true);
+  std::vector<MorphTarget>& targets = head.meshes[0].morphTargets;
+  const auto key = std::find_if(targets.begin(), targets.end(),
+                                [](const MorphTarget& t) { return t.name == "fap19@300"; });
+  ASSERT_NE(key, targets.end());
+  targets.push_back({"fap19_held@600", key->displacements});
+  const ArkitCaptureFace face = mpeg4face::prepareArkitCaptureFace(head);
+  ASSERT_EQ(face.columnReach.size(), face.columnFap.size());
+  for (std::size_t c = 0; c < face.columnFap.size(); ++c) {
+    if (face.columnFap[c] == 19 && face.columnSign[c] > 0) {
+      EXPECT_EQ(face.columnReach[c], 300);
+    } else {
+      EXPECT_TRUE(std::isinf(face.columnReach[c])) << face.columnFap[c];
+    }
+  }
+  // The capture's blink at 1 asks for 600 (the key is half the shape); the solver stops at
+  // the reach, where the table does.
+  const FapStream s = mpeg4face::arkitCaptureToFaps(capture(61), face, {25});
+  EXPECT_EQ(s.frames.front().value(19), 300);
+  EXPECT_NEAR(s.frames.back().value(19), 0, 1.0);
+  EXPECT_NEAR(s.frames[20].value(3), 400 * 0.8 / kKeyScale, 1.0);  // the others as before
 }
 
 TEST(ArkitCapture, HeadWithoutArkitShapes) {
