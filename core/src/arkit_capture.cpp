@@ -73,6 +73,39 @@ double largestBorder(const FaceDefTables& table) {
   return a;
 }
 
+// How far one side of a table (sign +1 / -1) keeps the motion of its first interval there:
+// the border where an interval's displacements first differ, +inf when none does (the
+// outermost interval continues). A table held past its key (arkit_keys.cpp) reaches no
+// further than the copy where it goes flat.
+double linearReach(const FaceDefTables& table, int sign) {
+  double reach = kInfinity;
+  for (const FaceDefMesh& m : table.faceDefMesh) {
+    const int n = m.intervalCount();
+    std::vector<int> outward;  // this side's intervals, from 0 out
+    for (int k = 0; k < n; ++k) {
+      const auto s = static_cast<std::size_t>(k);
+      if (sign > 0 ? m.intervalBorders[s] >= 0 : m.intervalBorders[s + 1] <= 0) {
+        outward.push_back(k);
+      }
+    }
+    if (sign < 0) std::reverse(outward.begin(), outward.end());
+    const auto rows = [&](int k) {
+      Points3 d(static_cast<Eigen::Index>(m.coordIndex.size()), 3);
+      for (Eigen::Index i = 0; i < d.rows(); ++i) d.row(i) = m.displacements.row(i * n + k);
+      return d;
+    };
+    if (outward.size() < 2) continue;
+    const Points3 first = rows(outward[0]);
+    for (std::size_t j = 1; j < outward.size(); ++j) {
+      if ((rows(outward[j]) - first).norm() <= 1e-3 * first.norm()) continue;
+      const auto inner = static_cast<std::size_t>(outward[j] + (sign > 0 ? 0 : 1));
+      reach = std::min(reach, std::abs(static_cast<double>(m.intervalBorders[inner])));
+      break;
+    }
+  }
+  return reach;
+}
+
 // The capture's angle channels as FAP values (AU), and back; docs/arkit.md, "Captures".
 struct AngleFap {
   int fap;
@@ -347,17 +380,7 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
           const int amplitude = side.empty() ? static_cast<int>(largestBorder(*t)) : *side.begin();
           Eigen::VectorXd column = areaMotion(t->fapID, sign * amplitude) / amplitude;
           if (column.cwiseAbs().maxCoeff() <= 0) continue;
-          double linear = kInfinity;
-          int previous = amplitude;
-          for (int b : side) {
-            if (b == amplitude) continue;
-            const Eigen::VectorXd further = areaMotion(t->fapID, sign * b) / b;
-            if ((further - column).norm() > 1e-3 * column.norm()) {
-              linear = previous;
-              break;
-            }
-            previous = b;
-          }
+          const double linear = linearReach(*t, sign);
           columns.push_back(std::move(column));
           faps.push_back(t->fapID);
           signs.push_back(sign);
