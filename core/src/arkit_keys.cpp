@@ -10,6 +10,7 @@
 #include <span>
 #include <string_view>
 
+#include "arkit_internal.hpp"
 #include "mpeg4face/arkit.hpp"
 #include "mpeg4face/arkit_capture.hpp"
 #include "mpeg4face/error.hpp"
@@ -140,9 +141,7 @@ std::vector<int> holdAtReach(ArkitMapping& mapping) {
   const auto own = [](const ArkitFapKey& k) {
     return static_cast<int>(std::lround(kKeyReach * k.amplitude));
   };
-  const auto held = [](const ArkitFapKey& k) {
-    return k.transform < 0 && k.fap != 3 && k.fap != 14 && k.fap != 15;
-  };
+  const auto held = [](const ArkitFapKey& k) { return k.transform < 0 && !arkit::isJawFap(k.fap); };
   std::vector<int> reach;
   for (const ArkitFapKey& key : mapping.keys) {
     int r = held(key) ? own(key) : 0;

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "arkit_internal.hpp"
 #include "mpeg4face/arkit.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/spec.hpp"
@@ -61,7 +62,6 @@ FaceSide fapSide(const FapInfo& info) {
 // top of the jaw's), and the jaw turns rather than slides: for them those points are free,
 // and so is the chin's motion across the FAP's direction (a jaw opening also draws the chin
 // back) but for a little weight that keeps it from growing for nothing.
-bool isJawFap(int fap) { return fap == 3 || fap == 14 || fap == 15; }
 bool followsJaw(std::string_view point) {
   static const std::set<std::string_view> kPoints{"2.3",  "2.4", "2.5", "2.8", "2.9",
                                                   "2.10", "8.2", "8.3", "8.4", "8.7",
@@ -104,7 +104,7 @@ void mapLinearFap(const LinearFap& fap, int sign, const ArkitPointMotion& motion
     for (Eigen::Index c = 0; c < n; ++c)
       rows.col(c) = motion.motion.block<3, 1>(3 * p, columns[static_cast<std::size_t>(c)]);
     const std::string& id = motion.points[static_cast<std::size_t>(p)];
-    const bool jaw = isJawFap(fap.info->number);
+    const bool jaw = arkit::isJawFap(fap.info->number);
     if (p == fap.point || (jaw && ridesJaw(id))) {
       // Along the direction: the motion asked for; across: none (for the jaw, little).
       A.middleRows<3>(3 * p) = basis.transpose() * rows;
