@@ -207,6 +207,38 @@ TEST(Arkit, LeftFapsUseNoRightShapes) {
   EXPECT_NEAR(mirrored->amplitude, 136, 1);
 }
 
+// depress_chin raises the chin boss and the lower lip rides on it: the key is the shape that
+// does that (mouthShrugLower), not one with mouthLowerDown holding the lip still.
+TEST(Arkit, TheChinsRaiseCarriesTheLowerLip) {
+  FaceModel head = arkitTestHead();
+  IndexedFaceSet& skin = head.meshes[0];
+  const int v = static_cast<int>(skin.coord.rows());
+  skin.coord.conservativeResize(v + 2, 3);
+  skin.coord.row(v) << 0, -0.058, 0.092;      // 8.2, below 2.3
+  skin.coord.row(v + 1) << 0, -0.075, 0.088;  // 2.10, above the chin 2.1
+  skin.coordIndex.insert(skin.coordIndex.end(), {0, v, v + 1, -1});
+  head.featurePoints["8.2"] = {0, v, Eigen::Vector3d::Zero()};
+  head.featurePoints["2.10"] = {0, v + 1, Eigen::Vector3d::Zero()};
+  const auto V = [](double x, double y, double z) { return Eigen::Vector3d(x, y, z); };
+  addTestShape(head, "mouthShrugLower",
+               {{"2.10", V(0, 0.004, 0)}, {"8.2", V(0, 0.003, 0)}, {"2.3", V(0, 0.002, 0)}});
+  addTestShape(head, "mouthLowerDown_L", {{"8.2", V(0, -0.0015, 0)}, {"2.3", V(0, -0.001, 0)}});
+  addTestShape(head, "mouthLowerDown_R", {{"8.2", V(0, -0.0015, 0)}, {"2.3", V(0, -0.001, 0)}});
+  const ArkitKeys keys = arkitFapKeys(head);
+  const ArkitFapKey* chin = findKey(keys.mapping, 18, 1);
+  ASSERT_TRUE(chin);
+  EXPECT_NEAR(chin->amplitude, 136, 1);  // 4 mm in MNS units (MNS0 / 1024 = 0.0293 mm)
+  ASSERT_EQ(chin->weights.size(), 1u);
+  EXPECT_EQ(keys.shapes.shapes[static_cast<std::size_t>(chin->weights[0].first)].name,
+            "mouthShrugLower");
+  // The lip FAPs still hold the chin still: mouthShrugLower raises 2.10 more than 8.2, so
+  // raise_b_midlip_o has no key, while lowering 8.2 is mouthLowerDown's.
+  EXPECT_FALSE(findKey(keys.mapping, 52, 1));
+  const ArkitFapKey* lip = findKey(keys.mapping, 52, -1);
+  ASSERT_TRUE(lip);
+  EXPECT_EQ(weightOf(*lip, keys.shapes, "mouthShrugLower"), 0);
+}
+
 TEST(Arkit, WorksOnASubset) {
   FaceModel head = arkitTestHead();
   addTestShape(head, "blendShape1.jawOpen", {{"2.1", {0, -0.01, 0}}, {"2.3", {0, -0.01, 0}}});
