@@ -69,14 +69,15 @@ bool followsJaw(std::string_view point) {
   return kPoints.contains(point);
 }
 constexpr double kJawAcrossWeight = 0;
-// depress_chin (18) raises the chin boss, and the lower lip rides on it (the mentalis pushes
-// it up; ARKit's mouthShrugLower does both): its points are free in that FAP's problem, the
-// lip FAPs act on top. Held still, the lip took a cocktail of some sixteen shapes whose
-// motion between the feature points folded a cloned nostril and stretched the mouth corners.
+// depress_chin (18) raises the chin boss 2.10, and the rest of the chin's soft tissue (its
+// bottom 2.1) and the lower lip ride on it (the mentalis pushes the lip up; ARKit's
+// mouthShrugLower does both): those points are free in that FAP's problem, the lip FAPs act
+// on top. Held still, they took a cocktail of some sixteen shapes whose motion between the
+// feature points folded a cloned nostril and stretched the mouth corners.
 constexpr int kDepressChin = 18;
-bool isLowerLip(std::string_view point) {
-  return point == "2.3" || point == "2.8" || point == "2.9" || point == "8.2" || point == "8.7" ||
-         point == "8.8";
+bool ridesChin(std::string_view point) {
+  static const std::set<std::string_view> kPoints{"2.1", "2.3", "2.8", "2.9", "8.2", "8.7", "8.8"};
+  return kPoints.contains(point);
 }
 bool ridesJaw(std::string_view point) {
   return point == "2.3" || point == "2.10" || point == "8.2";
@@ -120,7 +121,7 @@ void mapLinearFap(const LinearFap& fap, int sign, const ArkitPointMotion& motion
       b(3 * p) = 1;
       if (p == fap.point) rowWeight(3 * p) = kTargetWeight;
       if (jaw) rowWeight.segment<2>(3 * p + 1).setConstant(kJawAcrossWeight);
-    } else if ((jaw && followsJaw(id)) || (fap.info->number == kDepressChin && isLowerLip(id))) {
+    } else if ((jaw && followsJaw(id)) || (fap.info->number == kDepressChin && ridesChin(id))) {
       rowWeight.segment<3>(3 * p).setZero();
     } else {
       A.middleRows<3>(3 * p) = rows;

@@ -207,8 +207,9 @@ TEST(Arkit, LeftFapsUseNoRightShapes) {
   EXPECT_NEAR(mirrored->amplitude, 136, 1);
 }
 
-// depress_chin raises the chin boss and the lower lip rides on it: the key is the shape that
-// does that (mouthShrugLower), not one with mouthLowerDown holding the lip still.
+// depress_chin raises the chin boss 2.10, and the chin's bottom 2.1 and the lower lip ride on
+// it: the key is the shape that does that (mouthShrugLower), not one with mouthLowerDown
+// holding the lip still and jawOpen the chin's bottom.
 TEST(Arkit, TheChinsRaiseCarriesTheLowerLip) {
   FaceModel head = arkitTestHead();
   IndexedFaceSet& skin = head.meshes[0];
@@ -221,7 +222,11 @@ TEST(Arkit, TheChinsRaiseCarriesTheLowerLip) {
   head.featurePoints["2.10"] = {0, v + 1, Eigen::Vector3d::Zero()};
   const auto V = [](double x, double y, double z) { return Eigen::Vector3d(x, y, z); };
   addTestShape(head, "mouthShrugLower",
-               {{"2.10", V(0, 0.004, 0)}, {"8.2", V(0, 0.003, 0)}, {"2.3", V(0, 0.002, 0)}});
+               {{"2.10", V(0, 0.004, 0)},
+                {"2.1", V(0, 0.003, 0)},
+                {"8.2", V(0, 0.003, 0)},
+                {"2.3", V(0, 0.002, 0)}});
+  addTestShape(head, "jawOpen", {{"2.1", V(0, -0.01, 0)}, {"2.3", V(0, -0.01, 0)}});
   addTestShape(head, "mouthLowerDown_L", {{"8.2", V(0, -0.0015, 0)}, {"2.3", V(0, -0.001, 0)}});
   addTestShape(head, "mouthLowerDown_R", {{"8.2", V(0, -0.0015, 0)}, {"2.3", V(0, -0.001, 0)}});
   const ArkitKeys keys = arkitFapKeys(head);
