@@ -112,10 +112,11 @@ int main(int argc, char** argv) {
       Options{.mode = FapCodingMode::Pca, .fapQuant = 1},
       Options{.mode = FapCodingMode::Pca, .fapQuant = 1, .pcaTemporal = FapCodingMode::Dct}};
   for (const Options& options : modes) {
-    const std::string name = std::string(mpeg4face::codingModeName(options.mode)) +
-                             (options.mode == FapCodingMode::Pca
-                                  ? "+" + std::string(mpeg4face::codingModeName(options.pcaTemporal))
-                                  : "");
+    const std::string name =
+        std::string(mpeg4face::codingModeName(options.mode)) +
+        (options.mode == FapCodingMode::Pca
+             ? "+" + std::string(mpeg4face::codingModeName(options.pcaTemporal))
+             : "");
     // Arguments, if any, name the modes to run (e.g. "dct pca+dct"), for profiling one.
     if (argc > 1 && std::find(argv + 1, argv + argc, name) == argv + argc) continue;
     mpeg4face::FbaEncoding enc;
@@ -129,8 +130,8 @@ int main(int argc, char** argv) {
     }
     std::printf(
         "\n%s, fap_quant %d, intra period %d: %llu bits, %.3f bits/value, %d intra planes\n",
-        name.c_str(), options.fapQuant,
-        options.intraPeriod, static_cast<unsigned long long>(enc.stats.bits),
+        name.c_str(), options.fapQuant, options.intraPeriod,
+        static_cast<unsigned long long>(enc.stats.bits),
         static_cast<double>(enc.stats.bits) / static_cast<double>(values), enc.stats.intraFrames);
     report("encodeFba", encode, values, baseline);
     report("decodeFba", decode, values, baseline);

@@ -26,7 +26,8 @@ double medianMilliseconds(int runs, const std::function<void()>& work) {
 }
 
 void report(const char* what, double ms, long vertices) {
-  std::printf("%-28s %9.2f ms  %7.2f M vertices/s\n", what, ms, static_cast<double>(vertices) / ms / 1e3);
+  std::printf("%-28s %9.2f ms  %7.2f M vertices/s\n", what, ms,
+              static_cast<double>(vertices) / ms / 1e3);
 }
 
 }  // namespace

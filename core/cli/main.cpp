@@ -138,25 +138,27 @@ constexpr std::array kCommands{
             "  --voice V       flite's voice: kal, kal16, awb, rms, slt\n"
             "  --transition S  the longest viseme transition, seconds (default 0.08)\n",
             mpeg4face::cli::runSpeak},
-    Command{"check", "motion check: stretched edges, flips, self-intersections, lips per key and frame",
-            "mpeg4face check HEAD.glb|.gltf|FACE.wrl [--stream S.fap|.fba ...] [--json]\n"
-            "                [--max-edge-ratio R] [--flip-degrees D] [--max-flips N]\n"
-            "                [--max-intersections N] [--max-lip-corner PCT] [--min-lower-lip PCT]\n"
-            "  every shape key (a .wrl: every table at its outermost borders) and every frame\n"
-            "  of each stream through the face's tables, against the neutral (docs/motion-check.md)\n"
-            "  --max-edge-ratio R     edge-length ratio max(l/l0, l0/l), p99 of the edges a\n"
-            "                         pose moves (default 2)\n"
-            "  --flip-degrees D       a triangle whose normal turns more is flipped (default 120)\n"
-            "  --max-flips N          flipped triangles allowed per pose (default 0)\n"
-            "  --max-intersections N  new self-intersections allowed per pose, lips and lids\n"
-            "                         touching not counted (default 0)\n"
-            "  --max-lip-corner PCT   inner lip corner outside the outer one, % of MW0 (default 2)\n"
-            "  --min-lower-lip PCT    the lower lip 8.2's share of the chin 2.1 under FAP 3\n"
-            "                         (default 50)\n"
-            "  --json  print one JSON object (keys passed, limits, keys, frames, streams, ...)\n"
-            "  exit status 0 within the limits, 4 past them; progress on stderr\n",
-            mpeg4face::cli::runCheck},
-    Command{"arkit", "ARKit heads and captures in MPEG-4: FAP keys, captures to FAP streams and back",
+    Command{
+        "check", "motion check: stretched edges, flips, self-intersections, lips per key and frame",
+        "mpeg4face check HEAD.glb|.gltf|FACE.wrl [--stream S.fap|.fba ...] [--json]\n"
+        "                [--max-edge-ratio R] [--flip-degrees D] [--max-flips N]\n"
+        "                [--max-intersections N] [--max-lip-corner PCT] [--min-lower-lip PCT]\n"
+        "  every shape key (a .wrl: every table at its outermost borders) and every frame\n"
+        "  of each stream through the face's tables, against the neutral (docs/motion-check.md)\n"
+        "  --max-edge-ratio R     edge-length ratio max(l/l0, l0/l), p99 of the edges a\n"
+        "                         pose moves (default 2)\n"
+        "  --flip-degrees D       a triangle whose normal turns more is flipped (default 120)\n"
+        "  --max-flips N          flipped triangles allowed per pose (default 0)\n"
+        "  --max-intersections N  new self-intersections allowed per pose, lips and lids\n"
+        "                         touching not counted (default 0)\n"
+        "  --max-lip-corner PCT   inner lip corner outside the outer one, % of MW0 (default 2)\n"
+        "  --min-lower-lip PCT    the lower lip 8.2's share of the chin 2.1 under FAP 3\n"
+        "                         (default 50)\n"
+        "  --json  print one JSON object (keys passed, limits, keys, frames, streams, ...)\n"
+        "  exit status 0 within the limits, 4 past them; progress on stderr\n",
+        mpeg4face::cli::runCheck},
+    Command{"arkit",
+            "ARKit heads and captures in MPEG-4: FAP keys, captures to FAP streams and back",
             "mpeg4face arkit keys HEAD.glb|.gltf [--feature-points CSV] [--no-visemes]\n"
             "                     [--no-expressions] -o OUT.glb|.gltf\n"
             "  HEAD's morph targets named as ARKit's 52 blendshapes (eyeBlinkLeft, eyeBlink_L,\n"

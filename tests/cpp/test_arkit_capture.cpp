@@ -170,7 +170,7 @@ TEST(ArkitCapture, ValuesStopWhereAKeysTableIsHeld) {
   }
   // The capture's blink at 1 asks for 600 (the key is half the shape); the solver stops at
   // the reach, where the table does.
-  const FapStream s = mpeg4face::arkitCaptureToFaps(capture(61), face, {25});
+  const FapStream s = mpeg4face::arkitCaptureToFaps(capture(61), face, {25, {}});
   EXPECT_EQ(s.frames.front().value(19), 300);
   EXPECT_NEAR(s.frames.back().value(19), 0, 1.0);
   EXPECT_NEAR(s.frames[20].value(3), 400 * 0.8 / kKeyScale, 1.0);  // the others as before

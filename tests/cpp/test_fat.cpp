@@ -46,7 +46,9 @@ TEST(IntervalWeights, BordersAreChecked) {
   EXPECT_THROW(checkIntervalBorders(std::vector<int>{0}), Error);
   EXPECT_THROW(checkIntervalBorders(std::vector<int>{0, 0}), Error);
   EXPECT_THROW(checkIntervalBorders(std::vector<int>{-5, 5, 10}), Error);
-  EXPECT_EQ(errorOf([] { checkIntervalBorders(std::vector<int>{0, 10, 5}); }).field(),
+  EXPECT_EQ(errorOf([] {
+              checkIntervalBorders(std::vector<int>{0, 10, 5});
+            }).field(),
             "intervalBorders");
   EXPECT_NO_THROW(checkIntervalBorders(std::vector<int>{-1000, 1000}));
   EXPECT_NO_THROW(checkIntervalBorders(std::vector<int>{-1000, 0, 500, 1000}));

@@ -9,7 +9,7 @@ namespace mpeg4face {
 // The one exception type of the library. It names where the problem is (file, line, field)
 // so that a user can find it; any of the three may be empty / 0 when not applicable.
 class Error : public std::runtime_error {
-public:
+ public:
   Error(std::string file, int line, std::string field, const std::string& message);
   explicit Error(const std::string& message) : Error({}, 0, {}, message) {}
 
@@ -19,7 +19,7 @@ public:
   // The message without the "file:line: field:" prefix.
   const std::string& reason() const noexcept { return reason_; }
 
-private:
+ private:
   std::string file_;
   int line_;
   std::string field_;

@@ -25,13 +25,13 @@ struct MorphTarget {
 // VRML IndexedFaceSet: polygons as vertex indices, each face ended by -1.
 struct IndexedFaceSet {
   std::string name;
-  Points3 coord;                      // vertex positions
-  std::vector<int> coordIndex;        // polygon corners, -1 after each face
-  Points3 normal;                     // per-vertex normals, or 0 rows
-  Points2 texCoord;                   // UVs, or 0 rows
-  std::vector<int> texCoordIndex;     // same layout as coordIndex; empty: texCoord per vertex
+  Points3 coord;                   // vertex positions
+  std::vector<int> coordIndex;     // polygon corners, -1 after each face
+  Points3 normal;                  // per-vertex normals, or 0 rows
+  Points2 texCoord;                // UVs, or 0 rows
+  std::vector<int> texCoordIndex;  // same layout as coordIndex; empty: texCoord per vertex
   std::vector<MorphTarget> morphTargets;
-  std::vector<double> weights;        // default morph weights (empty or one per target)
+  std::vector<double> weights;  // default morph weights (empty or one per target)
   // For a mesh cut from a file with one shared vertex list (OBJ groups): each vertex's
   // 0-based index in that file, so feature points and targets given in the file's vertex
   // numbering still find it. Empty otherwise.

@@ -45,8 +45,9 @@ FaceModel parseGltf(std::string_view bytes, const std::string& fileName,
 // helper node translated by -C, holds its meshes and children (so rotating or scaling the
 // node, by an animation or in a modeller, stays about the centre; its translation channels
 // get + C). A Transform holding several meshes gets one child node per mesh. Helper nodes
-// are marked in their extras so readGltf folds them back. Normals are normalized (glTF requires unit length). Animation
-// channels of a mesh no transform holds cannot be written (glTF animates nodes): Error.
+// are marked in their extras so readGltf folds them back. Normals are normalized (glTF requires
+// unit length). Animation channels of a mesh no transform holds cannot be written (glTF animates
+// nodes): Error.
 void writeGltf(const FaceModel& model, const std::filesystem::path& path);
 
 }  // namespace mpeg4face

@@ -28,17 +28,17 @@ inline constexpr double kFapuDivisor = 1024.0;
 
 // One row of the 68-FAP table (../shared/reference/mpeg4-face.md).
 struct FapInfo {
-  int number;                     // 1..68
-  std::string_view name;          // "stretch_l_cornerlip"
-  std::string_view bifsName;      // BIFS FAP node field name ("stretch_l_corner"); = name if same
-  FapuKind fapu;                  // None for FAP 1, 2
-  bool bidirectional;             // U/B column: false = unidirectional; FAP 1, 2: false
+  int number;                       // 1..68
+  std::string_view name;            // "stretch_l_cornerlip"
+  std::string_view bifsName;        // BIFS FAP node field name ("stretch_l_corner"); = name if same
+  FapuKind fapu;                    // None for FAP 1, 2
+  bool bidirectional;               // U/B column: false = unidirectional; FAP 1, 2: false
   std::string_view positiveMotion;  // "down", "left", "concave up", ... ("" for FAP 1, 2)
-  int group;                      // 1..10
-  std::string_view featurePoint;  // "2.1", "6.3, 6.4", "(eye)" or "" for FAP 1, 2
-  int quantStep;                  // QP; effective step = QP * fap_quant
-  int intraRange;                 // default I+- (0 for FAP 1, 2)
-  int interRange;                 // default P+- (0 for FAP 1, 2)
+  int group;                        // 1..10
+  std::string_view featurePoint;    // "2.1", "6.3, 6.4", "(eye)" or "" for FAP 1, 2
+  int quantStep;                    // QP; effective step = QP * fap_quant
+  int intraRange;                   // default I+- (0 for FAP 1, 2)
+  int interRange;                   // default P+- (0 for FAP 1, 2)
 };
 inline constexpr int kFapCount = 68;
 std::span<const FapInfo> fapTable();  // index i holds FAP i + 1
@@ -78,22 +78,22 @@ struct FeaturePointInfo {
   std::string_view constraintNote;
   bool inStandard;  // false only for 7.2
 };
-inline constexpr int kFeaturePointCount = 84;  // in the standard; the table also has 7.2
+inline constexpr int kFeaturePointCount = 84;           // in the standard; the table also has 7.2
 std::span<const FeaturePointInfo> featurePointTable();  // 85 entries, in group/index order
 const FeaturePointInfo* findFeaturePoint(std::string_view id);
 
 // FAP 1 values (Tekalp-Ostermann Table 3).
 struct VisemeInfo {
-  int number;                     // 0..14
-  std::string_view phonemes;      // "p, b, m"
-  std::string_view example;       // "put, bed, mill"
+  int number;                 // 0..14
+  std::string_view phonemes;  // "p, b, m"
+  std::string_view example;   // "put, bed, mill"
 };
 std::span<const VisemeInfo> visemeTable();  // 15 entries
 
 // FAP 2 values (Tekalp-Ostermann Table 4).
 struct ExpressionInfo {
-  int number;                     // 0..6
-  std::string_view name;          // "joy"
+  int number;             // 0..6
+  std::string_view name;  // "joy"
   std::string_view description;
 };
 std::span<const ExpressionInfo> expressionTable();  // 7 entries

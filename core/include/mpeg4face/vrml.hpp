@@ -19,8 +19,8 @@ namespace mpeg4face {
 // WorldInfo titled "mpeg4face feature points" saying which points are mesh vertices or
 // unbound. Names become VRML identifiers reversibly ('%XX' escapes, '%_N' to make a repeated
 // name unique). Meshes are placed among the Transforms so that they read back in their
-// order (docs/vrml.md, "Scene graph"). Numbers are the shortest text that reads back to the same double. Rotations
-// are written as axis-angle: a quaternion comes back within 1e-15 rad, or as -q.
+// order (docs/vrml.md, "Scene graph"). Numbers are the shortest text that reads back to the same
+// double. Rotations are written as axis-angle: a quaternion comes back within 1e-15 rad, or as -q.
 // Morph targets, weights, animations and sourceIndex are not part of an MPEG-4 face and are
 // not written. Throws mpeg4face::Error naming the field for a model that fails validate(),
 // a table that refers to a missing mesh, vertex or transform, bad interval borders, a
