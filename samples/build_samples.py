@@ -331,18 +331,23 @@ def mesh_edges(mesh: mpeg4face.IndexedFaceSet) -> np.ndarray:
         [triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1), axis=0)
 
 
+def neighbour_mean(edges: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Per vertex, the mean of its neighbours' rows of `d` along `edges` (0 where it has none)."""
+    degree = np.maximum(np.bincount(edges.ravel(), minlength=len(d)), 1)[:, None]
+    total = np.zeros_like(d)
+    np.add.at(total, edges[:, 0], d[edges[:, 1]])
+    np.add.at(total, edges[:, 1], d[edges[:, 0]])
+    return total / degree
+
+
 def spread_lid_crease(head: mpeg4face.FaceModel, displacements: list[np.ndarray]) -> None:
     skin = head.find_mesh("skin")
     edges = mesh_edges(head.meshes[skin])
     d = displacements[skin]
     size = np.linalg.norm(d, axis=1)
     spread = ((size > 0) & (size < LID_SPREAD_BELOW * size.max()))[:, None]
-    degree = np.maximum(np.bincount(edges.ravel(), minlength=len(d)), 1)[:, None]
     for _ in range(LID_SPREAD_PASSES):
-        total = np.zeros_like(d)
-        np.add.at(total, edges[:, 0], d[edges[:, 1]])
-        np.add.at(total, edges[:, 1], d[edges[:, 0]])
-        d = np.where(spread, 0.5 * d + 0.5 * total / degree, d)
+        d = np.where(spread, 0.5 * d + 0.5 * neighbour_mean(edges, d), d)
     displacements[skin] = d
 
 

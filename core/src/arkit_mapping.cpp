@@ -75,9 +75,14 @@ constexpr double kJawAcrossWeight = 0;
 // on top. Held still, they took a cocktail of some sixteen shapes whose motion between the
 // feature points folded a cloned nostril and stretched the mouth corners.
 constexpr int kDepressChin = 18;
-bool ridesChin(std::string_view point) {
+bool followsChin(std::string_view point) {
   static const std::set<std::string_view> kPoints{"2.1", "2.3", "2.8", "2.9", "8.2", "8.7", "8.8"};
   return kPoints.contains(point);
+}
+// The points FAP `fap`'s problem leaves free: they move along with it.
+bool carriedAlong(int fap, std::string_view point) {
+  if (arkit::isJawFap(fap)) return followsJaw(point);
+  return fap == kDepressChin && followsChin(point);
 }
 bool ridesJaw(std::string_view point) {
   return point == "2.3" || point == "2.10" || point == "8.2";
@@ -121,7 +126,7 @@ void mapLinearFap(const LinearFap& fap, int sign, const ArkitPointMotion& motion
       b(3 * p) = 1;
       if (p == fap.point) rowWeight(3 * p) = kTargetWeight;
       if (jaw) rowWeight.segment<2>(3 * p + 1).setConstant(kJawAcrossWeight);
-    } else if ((jaw && followsJaw(id)) || (fap.info->number == kDepressChin && ridesChin(id))) {
+    } else if (carriedAlong(fap.info->number, id)) {
       rowWeight.segment<3>(3 * p).setZero();
     } else {
       A.middleRows<3>(3 * p) = rows;

@@ -238,11 +238,7 @@ def apart_from_neighbours(mesh: mpeg4face.IndexedFaceSet, d: np.ndarray) -> np.n
     edges = np.unique(np.sort(np.concatenate([
         np.stack([face, np.roll(face, -1)], axis=1)
         for face in np.split(index, ends + 1)[:-1] for face in [face[:-1]]]), axis=1), axis=0)
-    degree = np.bincount(edges.ravel(), minlength=mesh.vertex_count)[:, None]
-    mean = np.zeros_like(d)
-    np.add.at(mean, edges[:, 0], d[edges[:, 1]])
-    np.add.at(mean, edges[:, 1], d[edges[:, 0]])
-    return np.linalg.norm(d - mean / np.maximum(degree, 1), axis=1)
+    return np.linalg.norm(d - build_samples.neighbour_mean(edges, d), axis=1)
 
 
 def test_no_lip_key_tears_a_vertex_from_its_neighbours(head):
