@@ -3,7 +3,7 @@
 
 import enum
 import os
-from typing import Callable, Iterable, Mapping, Sequence, TypedDict
+from typing import Callable, Iterable, Literal, Mapping, Sequence, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -611,7 +611,7 @@ class FatState(TypedDict):
 def vertex_normals(coord: _ArrayLike, triangles: _ArrayLike) -> npt.NDArray[np.float32]: ...
 
 class FatEvaluator:
-    def __init__(self, face: MpegFace) -> None: ...
+    def __init__(self, face: MpegFace, storage: Literal["float", "int16"] = "float") -> None: ...
     def evaluate(self, stream: FapStream, index: int) -> FatState: ...
     def neutral(self) -> FatState: ...
 

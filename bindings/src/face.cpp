@@ -201,13 +201,20 @@ void bindEvaluator(py::module_& m) {
       m, "FatEvaluator",
       "A face's tables compiled once (for the FAPU measured on its feature points) to animate "
       "it with FAP frames.");
-  cls.def(py::init([](const MpegFace& face) {
+  cls.def(py::init([](const MpegFace& face, const std::string& storage) {
+            if (storage != "float" && storage != "int16") {
+              throw py::value_error("storage: '" + storage + "' is not 'float' or 'int16'");
+            }
             auto shared = std::make_shared<const MpegFace>(face);
-            FatEvaluator evaluator(*shared, measureFapu(shared->faceSceneGraph));
+            FatEvaluator evaluator(*shared, measureFapu(shared->faceSceneGraph),
+                                   storage == "int16" ? FatStorage::Int16 : FatStorage::Float);
             FatState state = evaluator.neutralState();
             return PyFatEvaluator{std::move(shared), std::move(evaluator), std::move(state)};
           }),
-          "face"_a);
+          "face"_a, "storage"_a = "float",
+          "storage: 'float' (the default: about 7 significant digits) or 'int16' (half the "
+          "memory read per frame, for playback; a motion is off by at most 1/32768 of its "
+          "table's largest per interval, docs/fat.md).");
   cls.def(
       "evaluate",
       [](PyFatEvaluator& self, const FapStream& stream, std::size_t index) {

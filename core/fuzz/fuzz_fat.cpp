@@ -82,7 +82,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   try {
-    const FatEvaluator eval(face, fapu);
+    const FatEvaluator eval(face, fapu, in.u8() % 2 ? FatStorage::Int16 : FatStorage::Float);
     FatState state = eval.neutralState();
     for (int f = in.small(1, 3); f > 0; --f) {
       FapFrame frame;

@@ -2,9 +2,11 @@
 #include "mpeg4face/fat_evaluate.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <type_traits>
 #include <utility>
 
 #include "fat_support.hpp"
@@ -86,6 +88,23 @@ void validateTransform(const FaceModel& graph, const FaceDefTransform& t,
   }
 }
 
+// Writes one axis of `count` interleaved x, y, z floats as 16-bit integers and returns their
+// step: the power of two that brings the largest magnitude into 16384..32767 (1 if all are 0).
+// A power of two keeps values such as 0.5 or 600 exact and step * integer exact in float;
+// each value is off by at most half a step, 1/32768 of the largest.
+float quantise(const float* in, std::size_t count, std::int16_t* out) {
+  float largest = 0;
+  for (std::size_t i = 0; i < count; ++i) largest = std::max(largest, std::abs(in[3 * i]));
+  int exponent = 0;
+  std::frexp(largest, &exponent);  // largest = f * 2^exponent, f in [0.5, 1)
+  const float step = largest > 0 ? std::ldexp(1.0f, exponent - 15) : 1.0f;
+  for (std::size_t i = 0; i < count; ++i) {
+    out[3 * i] =
+        static_cast<std::int16_t>(std::clamp(std::lround(in[3 * i] / step), -32767L, 32767L));
+  }
+  return step;
+}
+
 // The interval a value falls in or continues, as FatEvaluator::Interval describes, chosen
 // exactly as intervalWeights chooses its non-zero weights.
 template <typename Interval>
@@ -159,7 +178,8 @@ void validateMpegFace(const MpegFace& face) {
   }
 }
 
-FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
+FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu, FatStorage storage)
+    : storage_(storage) {
   validateMpegFace(face);
   const FaceModel& graph = face.faceSceneGraph;
   neutralTransforms_ = graph.transforms;
@@ -215,10 +235,11 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
         m.slot.push_back(static_cast<std::uint32_t>(firstSlot[src.mesh] + v));
       }
       for (std::size_t e = 0; e < count; ++e) {
-        if (e > 0 && m.slot[e] == m.slot[e - 1] + 1) {
+        const std::uint32_t s = m.slot[e];
+        if (e > 0 && s == m.slot[e - 1] + 1) {
           ++m.runs.back().second;
         } else {
-          m.runs.emplace_back(m.slot[e], 1);
+          m.runs.emplace_back(s, 1);
         }
       }
       if (m.runs.size() * kMinRun > count) m.runs.clear();
@@ -233,7 +254,7 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
         m.intervals.push_back(iv);
         for (std::size_t v = 0; v < count; ++v) {
           for (std::size_t c = 0; c < 3; ++c) {
-            m.slope[(3 * j + c) * count + v] =
+            m.slope[3 * (j * count + v) + c] =
                 toFloat(table.scale *
                         src.displacements(static_cast<Eigen::Index>(v * n + j), Eigen::Index(c)));
           }
@@ -256,9 +277,25 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu) {
                    src.displacements.row(static_cast<Eigen::Index>(v * n + b));
           }
           for (std::size_t c = 0; c < 3; ++c) {
-            m.base[offset + c * count + v] = toFloat(table.scale * sum[Eigen::Index(c)]);
+            m.base[offset + 3 * v + c] = toFloat(table.scale * sum[Eigen::Index(c)]);
           }
         }
+      }
+      if (storage == FatStorage::Int16) {
+        m.slope16.resize(m.slope.size());
+        m.base16.resize(m.base.size());
+        for (std::size_t j = 0; j < n; ++j) {
+          Interval& iv = m.intervals[j];
+          for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t at = 3 * j * count + c;
+            iv.slopeStep[c] = quantise(m.slope.data() + at, count, m.slope16.data() + at);
+            if (iv.baseOffset < 0) continue;
+            const std::size_t baseAt = static_cast<std::size_t>(iv.baseOffset) + c;
+            iv.baseStep[c] = quantise(m.base.data() + baseAt, count, m.base16.data() + baseAt);
+          }
+        }
+        m.slope = {};
+        m.base = {};
       }
     }
     for (const FaceDefTransform& def : in.faceDefTransform) table.transforms.push_back({def, {}});
@@ -346,20 +383,44 @@ FatState FatEvaluator::evaluate(const FapFrame& frame) const {
 
 namespace {
 
-// One run of consecutive vertex slots: w += b + c * s per axis, as loops the compiler
-// vectorises (x, y, z are `stride` floats apart in w, `n` apart in b and s).
-// Inlined so that it takes the instruction set of the addRuns version that calls it.
-template <bool kBase>
-[[gnu::always_inline]] inline void addRun(float* __restrict w, std::size_t stride,
-                                          const float* __restrict b, const float* __restrict s,
-                                          std::size_t n, float c, std::size_t length) {
-  float* __restrict wx = w;
-  float* __restrict wy = w + stride;
-  float* __restrict wz = w + 2 * stride;
-  for (std::size_t k = 0; k < length; ++k) {
-    wx[k] += (kBase ? b[k] : 0.0f) + c * s[k];
-    wy[k] += (kBase ? b[n + k] : 0.0f) + c * s[n + k];
-    wz[k] += (kBase ? b[2 * n + k] : 0.0f) + c * s[2 * n + k];
+// Vertices are handled 8 at a time: 24 interleaved x, y, z floats, whole AVX registers.
+constexpr std::size_t kBlock = 8;
+
+// w += B * b + C * s over runs of consecutive vertex slots (first slot, length) whose entries
+// follow one another, x, y, z interleaved in w, b and s; B and C per axis (the stored units'
+// steps, C also times the interval's coordinate). One flat loop per run that the compiler
+// vectorises: B and C are repeated over a block so that each register sees the same axes at
+// each step.
+template <typename Stored>
+[[gnu::always_inline]] inline void addRunsOf(const std::pair<std::uint32_t, std::uint32_t>* runs,
+                                             std::size_t runCount, float* __restrict work,
+                                             const Stored* __restrict base,
+                                             const Stored* __restrict slope, const float* B,
+                                             const float* C) {
+  constexpr std::size_t kFloats = 3 * kBlock;
+  float bs[kFloats], cs[kFloats];
+  for (std::size_t i = 0; i < kFloats; ++i) bs[i] = base ? B[i % 3] : 0.0f, cs[i] = C[i % 3];
+  using F = float;
+  // w[0 .. n) += the motion of n floats from the start of a block (n <= kFloats).
+  const auto add = [&](float* __restrict w, const Stored* __restrict b, const Stored* __restrict s,
+                       std::size_t n) {
+    if (b) {
+      for (std::size_t k = 0; k < n; ++k) w[k] += bs[k] * F(b[k]) + cs[k] * F(s[k]);
+    } else {
+      for (std::size_t k = 0; k < n; ++k) w[k] += cs[k] * F(s[k]);
+    }
+  };
+  for (std::size_t r = 0; r < runCount; ++r) {
+    const auto [first, length] = runs[r];
+    float* __restrict w = work + 3 * std::size_t(first);
+    const std::size_t floats = 3 * std::size_t(length);
+    std::size_t i = 0;
+    for (; i + kFloats <= floats; i += kFloats) {
+      add(w + i, base ? base + i : nullptr, slope + i, kFloats);
+    }
+    add(w + i, base ? base + i : nullptr, slope + i, floats - i);
+    if (base) base += floats;
+    slope += floats;
   }
 }
 
@@ -373,66 +434,108 @@ template <bool kBase>
 
 MPEG4FACE_AVX2_CLONE
 void addRuns(const std::pair<std::uint32_t, std::uint32_t>* runs, std::size_t runCount, float* work,
-             std::size_t stride, const float* base, const float* slope, std::size_t n, float c) {
-  std::size_t entry = 0;
-  for (std::size_t r = 0; r < runCount; ++r) {
-    const auto [first, length] = runs[r];
-    if (base) {
-      addRun<true>(work + first, stride, base + entry, slope + entry, n, c, length);
-    } else {
-      addRun<false>(work + first, stride, nullptr, slope + entry, n, c, length);
-    }
-    entry += length;
+             const float* base, const float* slope, const float* B, const float* C) {
+  addRunsOf(runs, runCount, work, base, slope, B, C);
+}
+
+MPEG4FACE_AVX2_CLONE
+void addRuns(const std::pair<std::uint32_t, std::uint32_t>* runs, std::size_t runCount, float* work,
+             const std::int16_t* base, const std::int16_t* slope, const float* B, const float* C) {
+  addRunsOf(runs, runCount, work, base, slope, B, C);
+}
+
+// p = p0 + the summed motion (both x, y, z interleaved: one flat loop), and the sums reset.
+MPEG4FACE_AVX2_CLONE
+void addToNeutral(const double* __restrict p0, float* __restrict w, std::size_t count,
+                  double* __restrict p) {
+  for (std::size_t i = 0; i < 3 * count; ++i) {
+    p[i] = p0[i] + w[i];
+    w[i] = 0.0f;
   }
 }
 
-// p = p0 + the summed motion (x, y, z `stride` floats apart), and the sums reset to 0.
-MPEG4FACE_AVX2_CLONE
-void addToNeutral(const double* __restrict p0, float* __restrict x, std::size_t stride,
-                  std::size_t count, double* __restrict p) {
-  float* __restrict y = x + stride;
-  float* __restrict z = y + stride;
-  for (std::size_t v = 0; v < count; ++v) {
-    p[3 * v] = p0[3 * v] + x[v];
-    p[3 * v + 1] = p0[3 * v + 1] + y[v];
-    p[3 * v + 2] = p0[3 * v + 2] + z[v];
-    x[v] = y[v] = z[v] = 0.0f;
+// The stored tables of a Mesh, as FatStorage chose them.
+template <typename Stored, typename Mesh>
+std::pair<const Stored*, const Stored*> slopesAndBases(const Mesh& m) {
+  if constexpr (std::is_same_v<Stored, float>) {
+    return {m.slope.data(), m.base.data()};
+  } else {
+    return {m.slope16.data(), m.base16.data()};
   }
+}
+
+// What one table contributes at one value: its interval's slope and base (null: zero) and
+// the factors per axis that turn stored units into the motion.
+template <typename Stored>
+struct IntervalMotion {
+  const Stored* slope;
+  const Stored* base;
+  std::array<float, 3> B, C;
+};
+
+template <typename Stored, typename Mesh>
+IntervalMotion<Stored> intervalMotion(const Mesh& m, int value) {
+  const std::size_t j = intervalOf(m.intervals, static_cast<std::size_t>(m.zeroIndex), value);
+  const auto& iv = m.intervals[j];
+  const float c = iv.sign * (static_cast<float>(value) - iv.inner);
+  const auto [slopes, bases] = slopesAndBases<Stored>(m);
+  return {slopes + 3 * m.slot.size() * j,
+          iv.baseOffset >= 0 ? bases + iv.baseOffset : nullptr,
+          iv.baseStep,
+          {c * iv.slopeStep[0], c * iv.slopeStep[1], c * iv.slopeStep[2]}};
 }
 
 }  // namespace
 
-void FatEvaluator::addMesh(const Mesh& m, int value, float* work, const FapBits* active) const {
-  const std::size_t j = intervalOf(m.intervals, static_cast<std::size_t>(m.zeroIndex), value);
-  const Interval& iv = m.intervals[j];
-  const float c = iv.sign * (static_cast<float>(value) - iv.inner);
-  const std::size_t count = m.slot.size();
-  const float* slope = m.slope.data() + 3 * count * j;
-  const float* base = iv.baseOffset >= 0 ? m.base.data() + iv.baseOffset : nullptr;
-  if (!active && !m.runs.empty()) {
-    addRuns(m.runs.data(), m.runs.size(), work, slotCount_, base, slope, count, c);
-    return;
-  }
-  const std::uint32_t* slot = m.slot.data();
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    float* w = work + axis * slotCount_;
-    const float* s = slope + axis * count;
-    const float* b = base ? base + axis * count : nullptr;
-    if (active) {  // a viseme or expression: less where a present low-level FAP moves
-      for (std::size_t i = 0; i < count; ++i) {
-        float keep = 1;
-        if ((m.coveredBy[i] & *active).any()) {
-          for (std::uint32_t e = coverStart_[slot[i]]; e < coverStart_[slot[i] + 1]; ++e) {
-            if (active->test(cover_[e].first)) keep = std::min(keep, 1 - cover_[e].second);
-          }
-        }
-        w[slot[i]] += keep * ((b ? b[i] : 0.0f) + c * s[i]);
+template <typename Stored>
+void FatEvaluator::addMeshByVertex(const Mesh& m, int value, float* work,
+                                   const FapBits* active) const {
+  const IntervalMotion<Stored> at = intervalMotion<Stored>(m, value);
+  for (std::size_t i = 0; i < m.slot.size(); ++i) {
+    const std::uint32_t slot = m.slot[i];
+    float keep = 1;
+    if (active && (m.coveredBy[i] & *active).any()) {
+      // a viseme or expression: less where a present low-level FAP moves
+      for (std::uint32_t e = coverStart_[slot]; e < coverStart_[slot + 1]; ++e) {
+        if (active->test(cover_[e].first)) keep = std::min(keep, 1 - cover_[e].second);
       }
-    } else if (b) {
-      for (std::size_t i = 0; i < count; ++i) w[slot[i]] += b[i] + c * s[i];
-    } else {
-      for (std::size_t i = 0; i < count; ++i) w[slot[i]] += c * s[i];
     }
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const float motion =
+          (at.base ? at.B[axis] * static_cast<float>(at.base[3 * i + axis]) : 0.0f) +
+          at.C[axis] * static_cast<float>(at.slope[3 * i + axis]);
+      work[3 * slot + axis] += keep * motion;
+    }
+  }
+}
+
+template <typename Stored>
+void FatEvaluator::addMotion(const FapFrame& frame, FatState& state) const {
+  float* work = state.work.data();
+  const FapBits active = frame.mask & lowLevelWithTables_;
+  for (const Table& t : tables_) {
+    if (!frame.has(t.fapID)) continue;
+    const int value = tableInput(t.fapID, t.highLevelSelect, frame);
+    if (value == 0) continue;
+    // Visemes and expressions give way to present low-level FAPs, vertex by vertex.
+    const FapBits* priority = t.fapID <= 2 && active.any() ? &active : nullptr;
+    for (const Mesh& m : t.meshes) {
+      if (priority || m.runs.empty()) {
+        addMeshByVertex<Stored>(m, value, work, priority);
+      } else {
+        const IntervalMotion<Stored> at = intervalMotion<Stored>(m, value);
+        addRuns(m.runs.data(), m.runs.size(), work, at.base, at.slope, at.B.data(), at.C.data());
+      }
+    }
+    for (const TransformDef& d : t.transforms) {
+      if (priority && (d.coveredBy & active).any()) continue;
+      applyFaceDefTransform(d.def, value * t.scale, state.transforms[d.def.transform]);
+    }
+  }
+  for (std::size_t k = 0; k < animatedMeshes_.size(); ++k) {
+    const Points3& neutral = neutralCoord_[animatedMeshes_[k]];
+    addToNeutral(neutral.data(), work + 3 * std::size_t(firstSlot_[k]),
+                 static_cast<std::size_t>(neutral.rows()), state.coord[animatedMeshes_[k]].data());
   }
 }
 
@@ -473,23 +576,10 @@ void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
   }
 
   // Sum every table's motion per vertex slot, then add the sums to the neutral positions.
-  float* work = state.work.data();
-  const FapBits active = frame.mask & lowLevelWithTables_;
-  for (const Table& t : tables_) {
-    if (!frame.has(t.fapID)) continue;
-    const int value = tableInput(t.fapID, t.highLevelSelect, frame);
-    if (value == 0) continue;
-    const FapBits* priority = t.fapID <= 2 && active.any() ? &active : nullptr;
-    for (const Mesh& m : t.meshes) addMesh(m, value, work, priority);
-    for (const TransformDef& d : t.transforms) {
-      if (priority && (d.coveredBy & active).any()) continue;
-      applyFaceDefTransform(d.def, value * t.scale, state.transforms[d.def.transform]);
-    }
-  }
-  for (std::size_t k = 0; k < animatedMeshes_.size(); ++k) {
-    const Points3& neutral = neutralCoord_[animatedMeshes_[k]];
-    addToNeutral(neutral.data(), work + firstSlot_[k], slotCount_,
-                 static_cast<std::size_t>(neutral.rows()), state.coord[animatedMeshes_[k]].data());
+  if (storage_ == FatStorage::Int16) {
+    addMotion<std::int16_t>(frame, state);
+  } else {
+    addMotion<float>(frame, state);
   }
 }
 

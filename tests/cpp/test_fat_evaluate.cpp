@@ -184,7 +184,8 @@ TEST(FatEvaluate, TransformsFollowIncreasingFapOrderFromTheNeutralState) {
   EXPECT_EQ(s.transforms[1].translation, Eigen::Vector3d(3, 4, 5));
 }
 
-// A second implementation straight from intervalWeights, in double, for random tables.
+// A second implementation straight from intervalWeights, in double, for random tables; the
+// 16-bit tables within their documented bound (FatStorage::Int16).
 TEST(FatEvaluate, AgreesWithTheIntervalWeightsOnRandomTables) {
   std::mt19937 rng(7);
   std::uniform_int_distribution<int> intervals(1, 5), border(1, 400), valueOf(-3000, 3000);
@@ -222,20 +223,30 @@ TEST(FatEvaluate, AgreesWithTheIntervalWeightsOnRandomTables) {
     }
     FapuMeasurement fapu = uniformFapu(0.01);
     fapu.IRISD0.value = 0.003 * kFapuDivisor;
-    const FatEvaluator eval(face, fapu);
     FapFrame frame;
     for (int fap : {3, 4, 19, 31}) {
       if (rng() % 4 != 0) frame.set(fap, valueOf(rng));
     }
-    const FatState s = eval.evaluate(frame);
+    const FatState s = FatEvaluator(face, fapu).evaluate(frame);
+    const FatState s16 = FatEvaluator(face, fapu, FatStorage::Int16).evaluate(frame);
     std::vector<Points3> expected;
     for (const auto& mesh : face.faceSceneGraph.meshes) expected.push_back(mesh.coord);
     double largest = 1;
+    std::vector<Eigen::RowVector3d> bound16(expected.size(), Eigen::RowVector3d::Zero());
     for (const FaceDefTables& t : face.faceDefTables) {
       if (!frame.has(t.fapID)) continue;
       for (const FaceDefMesh& m : t.faceDefMesh) {
         std::vector<double> w;
         intervalWeights(m.intervalBorders, frame.value(t.fapID), w);
+        for (int k = 0; k < m.intervalCount(); ++k) {
+          Eigen::RowVector3d top = Eigen::RowVector3d::Zero();
+          for (std::size_t i = 0; i < m.coordIndex.size(); ++i) {
+            top = top.cwiseMax(
+                m.displacements.row(static_cast<Eigen::Index>(i) * m.intervalCount() + k)
+                    .cwiseAbs());
+          }
+          bound16[m.mesh] += std::abs(fapScale(fapu, t.fapID) * w[k]) / 32768 * top;
+        }
         for (std::size_t i = 0; i < m.coordIndex.size(); ++i) {
           for (int k = 0; k < m.intervalCount(); ++k) {
             const Eigen::RowVector3d step =
@@ -250,6 +261,11 @@ TEST(FatEvaluate, AgreesWithTheIntervalWeightsOnRandomTables) {
     for (std::size_t mesh = 0; mesh < expected.size(); ++mesh) {
       EXPECT_LE((s.coord[mesh] - expected[mesh]).cwiseAbs().maxCoeff(), largest * kFloat)
           << "round " << round << " mesh " << mesh;
+      const Eigen::MatrixXd error16 = (s16.coord[mesh] - expected[mesh]).cwiseAbs();
+      for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_LE(error16.col(axis).maxCoeff(), bound16[mesh][axis] + largest * kFloat)
+            << "16-bit, round " << round << " mesh " << mesh << " axis " << axis;
+      }
     }
   }
 }
@@ -383,6 +399,56 @@ TEST(FatEvaluate, PriorityIsPerMesh) {
   const FatState s = eval.evaluate(frame);
   expectNear(moved(s, face, 0, 0), {63, 0, 0}, 1e-4);
   expectNear(moved(s, face, 1, 0), {1, 1, 1}, 1e-6);
+}
+
+// The 16-bit tables follow the same rules as float ones (priority shares, several meshes,
+// Transforms, one state frame after frame), within their bound: here at most 4 tables of
+// motions up to 63 model units (FatStorage::Int16).
+TEST(FatEvaluate, SixteenBitTablesFollowTheSameRules) {
+  MpegFace face = highLevelFace();
+  face.faceSceneGraph.addMeshWithTransform(gridMesh("Teeth", 3));
+  FaceDefTables lip;  // FAP 5: a fading key on Face, and Teeth
+  lip.fapID = 5;
+  FaceDefMesh m;
+  m.mesh = 0;
+  m.intervalBorders = {-100, 0, 40, 100};
+  m.coordIndex = {1, 2, 3};
+  m.displacements.resize(9, 3);
+  m.displacements << 0, 2e-3, 1e-4, 0, 1e-3, 0, 3e-4, 1e-3, 0,  //
+      0, 0.5e-3, 0, 0, 0.3e-3, 0, 1e-4, 0, 0,                   //
+      0, 0, 0, 0, 2e-5, 0, 0, 1e-5, 7e-6;
+  lip.faceDefMesh.push_back(m);
+  m.mesh = 1;
+  m.intervalBorders = {0, 100};
+  m.coordIndex = {0, 1, 2};
+  m.displacements = Points3::Constant(3, 3, 1.0 / 3);
+  lip.faceDefMesh.push_back(m);
+  face.faceDefTables.push_back(lip);
+  face.faceDefTables[1].faceDefMesh[0].displacements.col(1).setConstant(0.7);
+  const FatEvaluator exact(face, uniformFapu()), fast(face, uniformFapu(), FatStorage::Int16);
+  FatState a = exact.neutralState(), b = fast.neutralState();
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> select(0, 14), amount(0, 63), value(-150, 150);
+  double largestError = 0;
+  for (int k = 0; k < 200; ++k) {
+    FapFrame frame;
+    if (rng() % 3) frame.mask.set(0), frame.viseme = {select(rng), select(rng), amount(rng), false};
+    if (rng() % 3) {
+      frame.mask.set(1);
+      frame.expression = {int(rng() % 7), amount(rng), int(rng() % 7), amount(rng), false, false};
+    }
+    for (int fap : {3, 4, 5}) {
+      if (rng() % 2) frame.set(fap, value(rng));
+    }
+    exact.evaluate(frame, a);
+    fast.evaluate(frame, b);
+    for (std::size_t mesh = 0; mesh < a.coord.size(); ++mesh) {
+      largestError = std::max(largestError, (a.coord[mesh] - b.coord[mesh]).cwiseAbs().maxCoeff());
+    }
+    EXPECT_TRUE(a.transforms[0].translation.isApprox(b.transforms[0].translation)) << k;
+    EXPECT_TRUE(a.transforms[0].rotation.isApprox(b.transforms[0].rotation)) << k;
+  }
+  EXPECT_LE(largestError, 4 * 63.0 / 32768);
 }
 
 TEST(FatEvaluate, LowLevelTranslationOverridesTheVisemesTranslation) {

@@ -71,6 +71,14 @@ def test_tables_from_shape_keys_reproduce_them(candide):
     assert state["rotation"].shape == (len(candide.transforms), 4)
     with pytest.raises(IndexError, match="frame index 1 outside the stream's 1 frames"):
         evaluator.evaluate(stream_of(3, 1), 1)
+    # The 16-bit tables for playback: each key off by at most 1/32768 of its largest motion.
+    fast = mpeg4face.FatEvaluator(face, storage="int16")
+    for (fap, amplitude, _), target in zip(SHAPES, candide.meshes[0].morph_targets):
+        coord = fast.evaluate(stream_of(fap, amplitude), 0)["coord"][0]
+        exact = evaluator.evaluate(stream_of(fap, amplitude), 0)["coord"][0]
+        assert np.abs(coord - exact).max() <= np.abs(target.displacements).max() / 32768 + 1e-7
+    with pytest.raises(ValueError, match="storage: 'half' is not 'float' or 'int16'"):
+        mpeg4face.FatEvaluator(face, storage="half")
 
 
 def test_vrml_and_gltf_files(candide, tmp_path):

@@ -3,6 +3,7 @@
 // meshes and the changed Transforms (Tekalp-Ostermann 2.1.3.4). Rules in docs/fat.md.
 #pragma once
 
+#include <array>
 #include <bitset>
 #include <cstdint>
 #include <string>
@@ -33,16 +34,26 @@ struct FatState {
   std::vector<float> work;            // evaluate()'s working memory: no allocation per frame
 };
 
+// How FatEvaluator stores the tables' displacements, already multiplied by the FAP's unit.
+enum class FatStorage {
+  // float, about 7 significant digits: the default, for everything that measures or fits.
+  Float,
+  // 16-bit integers in steps of a power of two per table, interval and axis, chosen for the
+  // largest value: half the bytes a frame reads, for playback. A table's motion of a vertex
+  // along an axis is off by at most sum_k |w_k| * max_e |d_ek| / 32768 (w: intervalWeights,
+  // d: the interval's displacements in model units; docs/fat.md), about 3e-5 of its largest.
+  Int16,
+};
+
 // The tables of one MpegFace compiled for one FAPU measurement: built once, then evaluate()
-// turns any number of frames into states without allocating. Displacements are kept as
-// float, already multiplied by the FAP's unit, and summed per frame in float before they are
-// added to the double positions (about 7 significant digits of each motion: far below what
-// a FAPU-quantised FAP can show, at half the memory traffic of double).
+// turns any number of frames into states without allocating. Motions are summed per frame
+// in float before they are added to the double positions.
 class FatEvaluator {
  public:
   // Validates `face` (validateMpegFace) and throws mpeg4face::Error if a table's FAP needs a
   // FAPU that `fapu` lacks, naming the table and the feature points that FAPU needs.
-  FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu);
+  FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu,
+               FatStorage storage = FatStorage::Float);
 
   // The neutral state, shaped for evaluate().
   FatState neutralState() const;
@@ -76,19 +87,22 @@ class FatEvaluator {
     int lower = 0, upper = 0;  // borders
     float inner = 0, sign = 1;
     std::int64_t baseOffset = -1;  // into Mesh::base, -1: base is zero
+    // Model units per stored unit of slope and base, per axis (1 for float storage).
+    std::array<float, 3> slopeStep{1, 1, 1}, baseStep{1, 1, 1};
   };
   struct Mesh {
     int mesh = -1;
     int zeroIndex = 0;  // index of the 0 border (multi-interval)
     std::vector<Interval> intervals;
     std::vector<std::uint32_t> slot;  // each entry's vertex slot in FatState::work
-    // Entries whose slots follow one another (coordIndex runs like 17 18 19), as (first
-    // slot, length) in entry order, when they are long enough to pay: empty otherwise.
+    // Entries whose slots follow one another (coordIndex runs like 17 18 19), in entry
+    // order as (first slot, length), when they are long enough to pay: empty otherwise.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> runs;
-    // Structure of arrays, so that runs vectorise: interval j's x, y, z of every entry at
-    // (3 * j + 0, 1, 2) * slot.size(); base likewise from Interval::baseOffset.
-    std::vector<float> slope;
-    std::vector<float> base;
+    // Interval j's x, y, z of entry e at 3 * (j * slot.size() + e) + 0, 1, 2; base likewise
+    // from Interval::baseOffset; interleaved like FatState::work, so that runs are flat
+    // loops. Either the float or the 16-bit pair is filled, as FatStorage says.
+    std::vector<float> slope, base;
+    std::vector<std::int16_t> slope16, base16;
     std::vector<FapBits> coveredBy;  // viseme / expression tables: low-level FAPs per vertex
     // The largest motion of each entry at the table's outermost borders (low-level tables).
     std::vector<float> reach;
@@ -105,8 +119,12 @@ class FatEvaluator {
     std::vector<TransformDef> transforms;
   };
 
-  void addMesh(const Mesh& m, int value, float* work, const FapBits* active) const;
+  template <typename Stored>
+  void addMotion(const FapFrame& frame, FatState& state) const;
+  template <typename Stored>
+  void addMeshByVertex(const Mesh& m, int value, float* work, const FapBits* active) const;
 
+  FatStorage storage_;
   std::vector<Table> tables_;          // sorted by fapID, highLevelSelect
   std::vector<Points3> neutralCoord_;  // per mesh
   std::vector<Transform> neutralTransforms_;
