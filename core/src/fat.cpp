@@ -92,4 +92,15 @@ void intervalWeights(std::span<const int> intervalBorders, double value,
   }
 }
 
+void borderWeights(std::span<const int> intervalBorders, double value,
+                   std::vector<double>& weights) {
+  const auto& I = intervalBorders;
+  weights.assign(I.size(), 0.0);
+  std::size_t j = 0;  // the interval holding the value, or the outermost one it continues
+  while (j + 2 < I.size() && value > I[j + 1]) ++j;
+  const double t = (value - I[j]) / (double(I[j + 1]) - I[j]);
+  weights[j] = 1 - t;
+  weights[j + 1] = t;
+}
+
 }  // namespace mpeg4face

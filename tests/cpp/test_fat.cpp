@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat.hpp"
 #include "test_support.hpp"
@@ -40,6 +42,48 @@ TEST(IntervalWeights, BeyondTheOutermostBordersTheOutermostIntervalContinues) {
 TEST(IntervalWeights, OneIntervalIsLinearAndSigned) {
   EXPECT_EQ(weightsOf({0, 1000}, -250), (std::vector<double>{-250}));
   EXPECT_EQ(weightsOf({-1000, 1000}, 700), (std::vector<double>{700}));
+}
+
+// The border weights give the same motion as the interval weights: with D_k per interval and
+// motion(b) = sum_k intervalWeights(b)_k D_k, sum_i borderWeights(v)_i motion(b_i) equals
+// sum_k intervalWeights(v)_k D_k, for random borders (one interval, 0 first or last, 0
+// inside), values inside, on and beyond the borders.
+TEST(BorderWeights, GiveTheMotionOfTheIntervalWeights) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> width(1, 500), count(1, 5), value(-3000, 3000);
+  std::uniform_real_distribution<double> d(-1, 1);
+  for (int round = 0; round < 500; ++round) {
+    const int n = count(rng);
+    std::vector<int> borders{0};
+    const int below = n == 1 && round % 3 == 0 ? 0 : std::uniform_int_distribution<int>(0, n)(rng);
+    for (int k = 0; k < below; ++k) borders.insert(borders.begin(), borders.front() - width(rng));
+    while (static_cast<int>(borders.size()) < n + 1) borders.push_back(borders.back() + width(rng));
+    if (n == 1 && round % 3 == 1) borders = {-width(rng), width(rng)};  // 0 inside
+    std::vector<double> D(static_cast<std::size_t>(n));
+    for (double& x : D) x = d(rng);
+    const auto motion = [&](double v) {
+      std::vector<double> w;
+      intervalWeights(borders, v, w);
+      double sum = 0;
+      for (int k = 0; k < n; ++k) sum += w[k] * D[k];
+      return sum;
+    };
+    for (const double v : {double(value(rng)), double(borders[rng() % borders.size()]), 0.0,
+                           borders.front() - 100.0, borders.back() + 100.0}) {
+      std::vector<double> w;
+      borderWeights(borders, v, w);
+      ASSERT_EQ(w.size(), borders.size());
+      double sum = 0;
+      for (std::size_t i = 0; i < borders.size(); ++i) sum += w[i] * motion(borders[i]);
+      EXPECT_NEAR(sum, motion(v), 1e-9 * (1 + std::abs(motion(v))))
+          << "round " << round << " value " << v;
+    }
+  }
+  std::vector<double> w;
+  borderWeights(std::vector<int>{-1000, 0, 500, 1000}, 600, w);
+  EXPECT_EQ(w, (std::vector<double>{0, 0, 0.8, 0.2}));
+  borderWeights(std::vector<int>{0, 500}, -250, w);  // one interval continues through 0
+  EXPECT_EQ(w, (std::vector<double>{1.5, -0.5}));
 }
 
 TEST(IntervalWeights, BordersAreChecked) {

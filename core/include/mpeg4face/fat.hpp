@@ -74,6 +74,15 @@ struct MpegFace {
 void intervalWeights(std::span<const int> intervalBorders, double value,
                      std::vector<double>& weights);
 
+// The same rule as weights of the motions at the borders, which is what shape keys (one per
+// border, the table's motion at that value) need: a value between borders b_i <= value <=
+// b_i+1 gives b_i the weight 1 - t and b_i+1 the weight t, t = (value - b_i) / (b_i+1 - b_i);
+// beyond the outermost borders the outermost interval continues (t outside 0..1). `weights`
+// gets intervalBorders.size() entries; a border 0's weight moves nothing (the motion there
+// is 0). sum_i weights[i] * motion(b_i) is the motion intervalWeights gives, for every table.
+void borderWeights(std::span<const int> intervalBorders, double value,
+                   std::vector<double>& weights);
+
 // What drives a table in `frame` (whether its FAP is present is the caller's test): the
 // value of FAP fapID (3..68); for a viseme table (fapID 1) its amount viseme_blend where
 // viseme_select1 names it plus 63 - viseme_blend where viseme_select2 does; for an
