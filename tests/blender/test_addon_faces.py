@@ -14,7 +14,9 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 import mpeg4face  # noqa: E402
 
-from mpeg4face_blender import fp_logic, mesh_data, operators_faces  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene import mesh_data  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 JAW = 0.05  # how far the test's open_jaw key moves the chin, in Blender's -Z
 
@@ -222,7 +224,7 @@ def scaled_copy(source, fp_vertices, scale):
     target.shape_key_add(name="Basis", from_mix=False)
     target.shape_key_add(name="Mine", from_mix=False)
     for group in source.vertex_groups:
-        fp = fp_logic.feature_point_of_group(group.name)
+        fp = feature_points.feature_point_of_group(group.name)
         if fp:
             target.vertex_groups.new(name=group.name).add([fp_vertices[fp]], 1.0, "REPLACE")
     target.select_set(True)
@@ -330,7 +332,7 @@ def test_bad_input_reports(candide_head, tmp_path):
 def test_export_menu_entries():
     from test_addon_feature_points import draw
 
-    from mpeg4face_blender import export
+    from mpeg4face_blender.ui.operators import export
 
     assert export._menu in bpy.types.TOPBAR_MT_file_export._dyn_ui_initialize()
     lines = draw(SimpleNamespace(draw=export._menu))
@@ -341,7 +343,7 @@ def test_export_menu_entries():
 def test_export_options_sub_panels():
     """The file browser's operator panel shows the options in sub-panels for our two
     exporters only; each draws its property of the running operator."""
-    from mpeg4face_blender import export
+    from mpeg4face_blender.ui.operators import export
 
     class Recording:
         def __init__(self):
@@ -371,7 +373,7 @@ def test_export_options_sub_panels():
 def test_panels(head):
     from test_addon_feature_points import draw, draw_joined
 
-    from mpeg4face_blender import panels_faces
+    from mpeg4face_blender.ui.panels import faces as panels_faces
 
     obj, _ = head
     operators_faces.reports.clear()  # earlier tests' heads had the same name

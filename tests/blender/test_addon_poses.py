@@ -13,7 +13,8 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 import mpeg4face  # noqa: E402
 
-from mpeg4face_blender import operators_faces, poses  # noqa: E402
+from mpeg4face_blender.scene import poses  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 EYE_TURN = 0.3  # radians about Blender's Z (the standard's Y) at fap23@100000
 HEAD_TURN = 0.2  # radians at fap49@20000

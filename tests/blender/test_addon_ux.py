@@ -16,8 +16,11 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 import layout_check  # noqa: E402
 from test_addon_stream import JOY, head  # noqa: E402,F401 - fixture
 
-from mpeg4face_blender import (  # noqa: E402
-    import_stream, operators_faces, operators_stream, panels, properties, ui_text)
+from mpeg4face_blender.ui import properties  # noqa: E402
+from mpeg4face_blender.ui import text as ui_text  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
+from mpeg4face_blender.ui.operators import import_stream  # noqa: E402
+from mpeg4face_blender.ui.panels import feature_points as panels  # noqa: E402
 
 WIDTH = 229  # px, the sidebar's default width at UI scale 1
 
@@ -164,7 +167,7 @@ def test_the_bake_reports_everything_in_a_popup(head, monkeypatch):
     """Every line of the bake's report reaches the user (the status bar shows only the
     last one): the summary and what could not be baked, in one popup."""
     shown = []
-    monkeypatch.setattr(operators_stream.ui_text, "popup",
+    monkeypatch.setattr(ui_text, "popup",
                         lambda context, title, lines, **_: shown.append((title, lines)))
     assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY)) == {"FINISHED"}
     (title, lines), = shown

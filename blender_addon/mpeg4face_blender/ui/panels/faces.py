@@ -5,8 +5,11 @@ keys, the last "Generate FaceDefTables" report, and cloning."""
 import bpy
 from bpy.props import EnumProperty
 
-from . import operators_arkit, operators_faces, shape_keys, ui_text
-from .panels import _Sidebar
+from ...logic import shape_keys
+from .. import text as ui_text
+from ..operators import arkit as operators_arkit
+from ..operators import faces as operators_faces
+from .feature_points import _Sidebar
 
 REPORTS = (("TABLES", "FaceDefTables", "The last Generate FaceDefTables report"),
            ("ARKIT", "FAP Keys from ARKit", "The last FAP Keys from ARKit Keys report"))

@@ -13,8 +13,11 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty
 
 import mpeg4face
 
-from . import check_logic, mesh_data, operators_stream, ui_text
-from .panels import _Sidebar
+from ...logic import check as check_logic
+from ...scene import mesh_data
+from .. import text as ui_text
+from ..panels.feature_points import _Sidebar
+from . import stream as operators_stream
 
 results: dict[str, dict[str, Any]] = {}  # object name -> check_motion's result
 

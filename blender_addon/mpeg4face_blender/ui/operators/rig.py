@@ -16,9 +16,12 @@ import numpy as np
 from bpy.props import FloatProperty, IntProperty, StringProperty
 from mathutils import Vector
 
-from . import fp_logic, mesh_data, operators_faces, poses, rig_logic, shape_keys
-from .operators import active_mesh
-from .panels import _Sidebar
+from ...logic import feature_points, shape_keys
+from ...logic import rig as rig_logic
+from ...scene import mesh_data, poses
+from ..panels.feature_points import _Sidebar
+from . import faces as operators_faces
+from .feature_points import active_mesh
 
 # The last report per head object name, for the panel; forgotten with the other reports.
 reports: dict[str, rig_logic.PoseReport] = {}
@@ -47,7 +50,7 @@ def _set(bone: bpy.types.PoseBone, channel: rig_logic.BoneChannel, direction: Ve
 def _local_direction(head: bpy.types.Object, rig: bpy.types.Object, bone: bpy.types.PoseBone,
                      standard: np.ndarray) -> Vector:
     """A direction of the head's standard axes in the bone's rest axes (pose locations)."""
-    obj = Vector(fp_logic.to_blender_axes(standard)[0])
+    obj = Vector(feature_points.to_blender_axes(standard)[0])
     world = head.matrix_world.to_3x3() @ obj
     local = bone.bone.matrix_local.to_3x3().inverted() @ (rig.matrix_world.to_3x3().inverted()
                                                           @ world)
@@ -85,8 +88,8 @@ def pose_faps(head: bpy.types.Object, rig: bpy.types.Object,
         _, faces, fp_vertices, _ = mesh_data.mesh_and_points(head)
         with poses.rig_only([head], operators_faces.key_names):
             bpy.context.view_layer.update()
-            neutral = fp_logic.to_standard_axes(poses.evaluated_coords(head, depsgraph))
-            fapu = mpeg4face.measure_fapu(fp_logic.face_model(neutral, faces, fp_vertices))
+            neutral = feature_points.to_standard_axes(poses.evaluated_coords(head, depsgraph))
+            fapu = mpeg4face.measure_fapu(feature_points.face_model(neutral, faces, fp_vertices))
             fits = []
             for done, (fap, channel) in enumerate(channels.items(), 1):
                 fit = _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral,
@@ -138,11 +141,11 @@ def _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral, depsgra
             _set(each, channel, direction_there, value)
         bpy.context.view_layer.update()
         coords = poses.evaluated_coords(head, depsgraph)
-        return fp_logic.to_standard_axes(coords[vertex])[0] - neutral[vertex]
+        return feature_points.to_standard_axes(coords[vertex])[0] - neutral[vertex]
 
     if channel.channel == "rotation":  # an arc of `wanted` at the point's distance
         pivot = rig.matrix_world @ bone.bone.head_local
-        point = head.matrix_world @ Vector(fp_logic.to_blender_axes(neutral[vertex])[0])
+        point = head.matrix_world @ Vector(feature_points.to_blender_axes(neutral[vertex])[0])
         first = channel.sign * wanted / max((point - pivot).length, 1e-9)
     else:
         first = channel.sign * wanted

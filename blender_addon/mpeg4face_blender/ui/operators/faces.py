@@ -18,8 +18,10 @@ from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatPrope
 
 import mpeg4face
 
-from . import fp_logic, mesh_data, poses, shape_keys, ui_text
-from .operators import active_mesh
+from ...logic import feature_points, shape_keys
+from ...scene import mesh_data, poses
+from .. import text as ui_text
+from .feature_points import active_mesh
 
 # The last "Generate FaceDefTables" (or export) report per object name, for the panel;
 # forgotten when another file is loaded.
@@ -123,7 +125,7 @@ def editable_mesh(op: bpy.types.Operator, context: bpy.types.Context) -> bpy.typ
 
 
 def has_feature_points(op: bpy.types.Operator, obj: bpy.types.Object) -> bool:
-    if any(fp_logic.feature_point_of_group(g.name) for g in obj.vertex_groups):
+    if any(feature_points.feature_point_of_group(g.name) for g in obj.vertex_groups):
         return True
     op.report({"ERROR"}, f"{obj.name} has no feature points (FP_ vertex groups): "
               "assign them in the Feature Points panel")
@@ -357,10 +359,10 @@ class MPEG4FACE_OT_mirror_shape_key(bpy.types.Operator):
             return {"CANCELLED"}
         basis = basis_coords(obj)
         with mesh_data.face_bmesh(obj) as bm:
-            fp_vertices, _ = fp_logic.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
+            fp_vertices, _ = feature_points.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
         plane = shape_keys.symmetry_plane(basis, fp_vertices)
         partners = shape_keys.mirror_vertices(
-            basis, fp_logic.mirror_tolerance(basis, self.tolerance), plane)
+            basis, feature_points.mirror_tolerance(basis, self.tolerance), plane)
         displacement = shape_keys.mirror_displacements(
             mesh_data.shape_key_coords(key) - basis, partners, plane)
         add_key(obj, mirrored.name, basis + displacement)

@@ -18,7 +18,9 @@ import mpeg4face
 import numpy as np
 from mathutils import Matrix
 
-from . import compat, live_logic, poses, stream_logic
+from ..logic import live as live_logic
+from ..logic import stream as stream_logic
+from . import compat, poses
 
 ACTION_GROUP = "MPEG-4 FAP stream"
 

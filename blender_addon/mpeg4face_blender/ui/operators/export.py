@@ -11,7 +11,8 @@ from bpy_extras.io_utils import ExportHelper
 
 import mpeg4face
 
-from . import operators_faces, shape_keys
+from ...logic import shape_keys
+from . import faces as operators_faces
 
 
 class _ExportFace(ExportHelper):

@@ -11,7 +11,9 @@ from bpy.props import BoolProperty
 
 import mpeg4face
 
-from . import arkit_logic, mesh_data, operators_faces
+from ...logic import arkit as arkit_logic
+from ...scene import mesh_data
+from . import faces as operators_faces
 
 # The last report per object name, for the panel's line and the tests; forgotten when a
 # file is loaded.
