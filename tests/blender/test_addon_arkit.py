@@ -64,7 +64,7 @@ def test_fap_keys_from_arkit_keys(arkit_head):
     for name, coords in before.items():  # the Basis, the ARKit keys and Smirk as they were
         assert np.array_equal(after[name], coords), name
     made = set(after) - set(before)
-    report = operators_arkit.reports[obj.name]
+    report = operators_arkit.arkit_reports[obj.name]
     assert len(made) == report.written and report.replaced == 0
     assert report.visemes > 0 and report.missed
     [jaw] = [n for n in made if n.startswith("fap3_open_jaw@")]
@@ -82,7 +82,7 @@ def test_fap_keys_from_arkit_keys(arkit_head):
     order = list(blocks.keys())
     assert bpy.ops.mpeg4face.arkit_fap_keys() == {"FINISHED"}
     assert list(obj.data.shape_keys.key_blocks.keys()) == order
-    assert operators_arkit.reports[obj.name].replaced == len(made)
+    assert operators_arkit.arkit_reports[obj.name].replaced == len(made)
     assert blocks[jaw].slider_max == 3.0
     np.testing.assert_allclose(mesh_data.shape_key_coords(blocks[jaw]), after[jaw], atol=1e-6)
 
@@ -159,8 +159,9 @@ def test_capture_through_an_arkit_face_file(candide_head, tmp_path):
     mesh = model.meshes[0]
     shapes = candide_arkit_shapes(mesh.coord, fp_vertices)
     face = tmp_path / "arkit.glb"
-    mpeg4face.write_gltf(feature_points.face_model(mesh.coord, mesh.coord_index, fp_vertices, shapes),
-                         str(face))
+    mpeg4face.write_gltf(
+        feature_points.face_model_from_arrays(mesh.coord, mesh.coord_index, fp_vertices, shapes),
+        str(face))
     drop = np.zeros_like(mesh.coord)
     drop[fp_vertices["2.1"]] = (0, -0.1, 0)
     add_shape(obj, "fap3_open_jaw@512", drop)

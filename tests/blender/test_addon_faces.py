@@ -167,7 +167,7 @@ def test_generate_tables(head):
     before = keys_of(obj)
     assert bpy.ops.mpeg4face.generate_tables() == {"FINISHED"}
     assert_kept(before, keys_of(obj))
-    report = operators_faces.reports[obj.name]
+    report = operators_faces.table_reports[obj.name]
     assert report.covered == ["fap3 open_jaw"] and report.moved == [1]
     assert report.copies == 1 and report.ignored == ["Smirk"]
 
@@ -376,7 +376,7 @@ def test_panels(head):
     from mpeg4face_blender.ui.panels import faces as panels_faces
 
     obj, _ = head
-    operators_faces.reports.clear()  # earlier tests' heads had the same name
+    operators_faces.table_reports.clear()  # earlier tests' heads had the same name
     lines = draw(panels_faces.MPEG4FACE_PT_shape_keys)
     assert lines[0] == "1 shape keys named for MPEG-4"
     assert "operator mpeg4face.mirror_shape_key: " in lines
@@ -386,7 +386,7 @@ def test_panels(head):
     # the summary in the panel, the whole report (a line per table) in a popup
     assert "1 FaceDefTables from 1 shape keys" in lines
     assert "operator mpeg4face.show_report: " in lines
-    assert "fap3 open_jaw: 1 vertices" in operators_faces.reports[obj.name].lines()
+    assert "fap3 open_jaw: 1 vertices" in operators_faces.table_reports[obj.name].lines()
     assert bpy.ops.mpeg4face.show_report(kind="TABLES") == {"FINISHED"}
     lines = draw_joined(panels_faces.MPEG4FACE_PT_cloning)
     assert "Targets: select other meshes" in lines

@@ -135,7 +135,7 @@ def test_state_statuses_fapu_and_warnings(candide_head):
     expected = mpeg4face.measure_fapu(model)
     for mode in ("OBJECT", "EDIT"):  # Edit Mode reads the edit bmesh
         bpy.ops.object.mode_set(mode=mode)
-        state = mesh_data.face_state(obj, 0.02)
+        state = mesh_data.read_face_state(obj, 0.02)
         assert {r.id: r.vertex for r in state.rows if r.is_set} == fp_vertices
         for reading in state.fapu:
             distance = getattr(expected, reading.name.lower())

@@ -32,7 +32,7 @@ def test_drawn_preview_fills_buffers_and_tags_no_mesh(head, eye, tmp_path):
     faps = {3: [0, 256, 400], 23: [0, 20000, -12000]}
     path = write_stream(tmp_path / "eye.fap", faps)
     scene = bpy.context.scene
-    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
     stream = mpeg4face.read_fap_stream(path)
     eye_basis, head_basis = coords(eye.data), coords(head.data)

@@ -179,7 +179,7 @@ def test_rig_poses_become_tables(rigged, tmp_path):
     assert bpy.ops.mpeg4face.export_vrml(filepath=str(wrl)) == {"FINISHED"}
     assert bpy.ops.mpeg4face.export_gltf(filepath=str(glb)) == {"FINISHED"}
     assert scene.frame_current == 5
-    report = operators_faces.reports[head.name]
+    report = operators_faces.table_reports[head.name]
     assert report.ignored == ["jaw_corrective"] and report.copies == 4
     face = mpeg4face.read_vrml(wrl)
     face.validate()
@@ -255,7 +255,7 @@ def test_rig_copies_are_quick(rigged, capsys):
         scene.timeline_markers.new(f"fap3_open_jaw@{(i + 1) * 20}", frame=2 + i)
     fractions = []
     start = time.perf_counter()
-    model, _ = poses.face_model(head, operators_faces.key_names, scene, fractions.append)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene, fractions.append)
     seconds = time.perf_counter() - start
     with capsys.disabled():
         print(f"\nrig copies: 60 markers x {vertices} vertices in {seconds:.2f} s")
@@ -303,7 +303,7 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
     key holds the rig's motion, so the Armature modifier is off meanwhile, on again after."""
     head, _, _ = rigged
     scene = bpy.context.scene
-    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
     frames = 3
     mask = np.zeros((frames, 68), dtype=bool)

@@ -121,7 +121,7 @@ def test_rigify_face_rig_posed_to_faps(rigify_head, tmp_path, capsys):
     head, rig, fp_vertices = rigify_head
     assert head.modifiers["Armature"].object == rig
     assert bpy.ops.mpeg4face.pose_faps_bones(amplitude=AMPLITUDE) == {"FINISHED"}
-    report = operators_rig.reports[head.name]
+    report = operators_rig.pose_reports[head.name]
     with capsys.disabled():
         print("\n" + "\n".join(report.lines()))
     scene = bpy.context.scene
@@ -131,7 +131,8 @@ def test_rigify_face_rig_posed_to_faps(rigify_head, tmp_path, capsys):
     neutral = feature_points.to_standard_axes(
         poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get()))
     faces = [i for p in head.data.polygons for i in (*p.vertices, -1)]
-    fapu = mpeg4face.measure_fapu(feature_points.face_model(neutral, faces, fp_vertices))
+    fapu = mpeg4face.measure_fapu(
+        feature_points.face_model_from_arrays(neutral, faces, fp_vertices))
     assert 0.1 < fapu.mns0.value < 0.6  # the head's mouth-nose separation (model units)
     missed = dict(report.missed)
     off = {}

@@ -19,7 +19,8 @@ from conftest import DATA  # noqa: E402
 from mathutils import Matrix  # noqa: E402
 
 from mpeg4face_blender.logic import feature_points  # noqa: E402
-from mpeg4face_blender.scene import compat, live_preview, mesh_data, poses, stream_data  # noqa: E402
+from mpeg4face_blender.scene import (  # noqa: E402
+    compat, live_preview, mesh_data, poses, stream_data)
 from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 from mpeg4face_blender.ui.panels import stream as panels_stream  # noqa: E402
 
@@ -331,7 +332,7 @@ def test_live_preview_of_a_part_and_its_pose(head, eye, tmp_path):
     faps = {3: [0, 256, 400], 23: [0, 20000, -12000]}
     path = write_stream(tmp_path / "eye.fap", faps)
     scene = bpy.context.scene
-    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
     stream = mpeg4face.read_fap_stream(path)
     eye_basis = coords(eye.data)
@@ -348,7 +349,8 @@ def test_live_preview_of_a_part_and_its_pose(head, eye, tmp_path):
         turn = Matrix.Rotation(EYE_TURN * faps[23][index] / 30000, 4, "Z")
         np.testing.assert_allclose(live_coords(eye), moved(turn, eye_basis), atol=1e-6)
         core = evaluator.evaluate(stream, index)["coord"][0]
-        np.testing.assert_allclose(live_coords(head), feature_points.to_blender_axes(core), atol=1e-6)
+        np.testing.assert_allclose(live_coords(head), feature_points.to_blender_axes(core),
+                                   atol=1e-6)
         assert [o.matrix_world for o in (head, eye)] == matrices
 
     assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
@@ -517,7 +519,7 @@ def test_registered_with_a_menu_entry():
                  "MPEG4FACE_OT_speak_text", "MPEG4FACE_OT_live_preview",
                  "MPEG4FACE_PT_fap_stream"):
         assert hasattr(bpy.types, name), name
-    assert import_stream.menu_entry in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
+    assert import_stream.stream_import_menu in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
 
 
 def test_disabling_the_addon_stops_the_live_preview(head, addon_disabled_after):

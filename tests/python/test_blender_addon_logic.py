@@ -139,7 +139,7 @@ def test_axes():
 
 def test_face_state_equals_measure_fapu(candide):
     model, coords, coord_index, fp_vertices = candide
-    state = feature_points.face_state(coords, coord_index, groups_of(fp_vertices))
+    state = feature_points.face_state_from_arrays(coords, coord_index, groups_of(fp_vertices))
     expected = mpeg4face.measure_fapu(model)
     assert [r.name for r in state.fapu] == list(feature_points.FAPU_DISTANCES)
     for reading in state.fapu:
@@ -159,7 +159,7 @@ def test_face_state_equals_measure_fapu(candide):
 def test_unmeasured_fapu_says_what_it_needs(candide):
     _, coords, coord_index, fp_vertices = candide
     without = {fp: v for fp, v in fp_vertices.items() if fp not in ("9.15", "8.3")}
-    state = feature_points.face_state(coords, coord_index, groups_of(without))
+    state = feature_points.face_state_from_arrays(coords, coord_index, groups_of(without))
     by_name = {r.name: r for r in state.fapu}
     assert by_name["MNS0"].lines() == ["MNS0 unmeasured: needs 9.15 and 2.2"]
     assert not by_name["ENS0"].measured
@@ -183,7 +183,8 @@ def test_mirror_matches(candide):
     tied = next(m for m in matches if m.source == "2.8")
     assert tied.ties == 2 and tied.message(tolerance).endswith(
         "(2 vertices are that near: check which one is meant)")
-    assert {m.source for m in matches} == {fp for fp in one_side if fp in feature_points.mirror_partners()}
+    partners = feature_points.mirror_partners()
+    assert {m.source for m in matches} == {fp for fp in one_side if fp in partners}
     assert matches[0].message(tolerance).startswith(f"{matches[0].partner} = vertex ")
     # Only missing partners: none on the full set.
     assert feature_points.mirror_matches(coords, fp_vertices, "MISSING", tolerance) == []

@@ -31,7 +31,8 @@ def candide(data_dir):
     mesh = model.meshes[0]
     shapes = blender_conftest.candide_arkit_shapes(mesh.coord, fp_vertices)
     shapes["Smirk"] = np.zeros_like(mesh.coord)
-    return feature_points.face_model(mesh.coord, mesh.coord_index, fp_vertices, shapes), fp_vertices
+    model = feature_points.face_model_from_arrays(mesh.coord, mesh.coord_index, fp_vertices, shapes)
+    return model, fp_vertices
 
 
 @pytest.fixture(scope="module")

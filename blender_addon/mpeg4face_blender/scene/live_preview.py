@@ -6,7 +6,6 @@ the Live Preview operator (ui/operators/live.py), the import and the panels use 
 register() adds the load handler that shows the objects a saved drawn preview hid;
 unregister() ends every preview."""
 
-
 import functools
 from dataclasses import dataclass
 
@@ -67,10 +66,10 @@ def is_live(obj: bpy.types.Object) -> bool:
 def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
                stream: mpeg4face.FapStream, start: int, draw: bool | None = None) -> list[str]:
     """Builds the tables of the whole face for the FAPs the stream animates
-    (generate_face on poses.face_model: the head's grammar keys `keys`, its parts' grammar
-    keys and the pose markers, of those FAPs), then shows the stream through the core's
-    evaluator: the exact MPEG-4 result, visemes and expressions
-    with the standard's priorities included, eyes, jaw and head moved by their Transforms.
+    (generate_face on poses.read_posed_face_model: the head's grammar keys `keys`, its
+    parts' grammar keys and the pose markers, of those FAPs), then shows the stream
+    through the core's evaluator: the exact MPEG-4 result, visemes and expressions with
+    the standard's priorities included, eyes, jaw and head moved by their Transforms.
 
     Each object of the face gets a shape key LIVE_KEY shown alone (show_only_shape_key),
     so the Basis, the other keys and the objects' matrices (which the pose keyframes
@@ -94,14 +93,14 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
         parsed = shape_keys.parse(name)
         return parsed is None or parsed["fap"] in faps  # a malformed name: the core says why
 
-    model, _ = poses.face_model(obj, key_names, scene, wanted=wanted)
+    model, _ = poses.read_posed_face_model(obj, key_names, scene, wanted=wanted)
     generated = mpeg4face.generate_face(model)
     neutral = [t.local_matrix() for t in model.transforms]
     draw = not bpy.app.background if draw is None else draw
     drawn = live_draw.add_face(obj.name, objects) if draw else [None] * len(objects)
     live_objects = []
     for index, o in enumerate(objects):
-        # poses.face_model makes each part (Transform i, holding mesh i) a child of the
+        # poses.read_posed_face_model makes each part (Transform i, holding mesh i) a child of the
         # head's Transform 0.
         chain = (0,) if index == 0 else (0, index)
         live_objects.append(LiveObject(o.name, chain, np.linalg.inv(_product(neutral, chain)),

@@ -109,7 +109,7 @@ def set_shape_key_coords(block: bpy.types.ShapeKey, coords: np.ndarray) -> None:
     block.data.foreach_set("co", np.asarray(coords, dtype=np.float32).ravel())
 
 
-def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
+def read_face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
                ) -> tuple[mpeg4face.FaceModel, list[str]]:
     """The mesh as a FaceModel (standard axes) with its feature points and the named shape
     keys as morph targets (displacements from the reference key: the whole shape, whatever
@@ -117,7 +117,7 @@ def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
     Shape keys are read from the mesh datablock, so the object should be in Object Mode."""
     coords, faces, fp_vertices, warnings = mesh_and_points(obj)
     targets = shape_key_displacements(obj, shape_keys)
-    return feature_points.face_model(coords, faces, fp_vertices, targets), warnings
+    return feature_points.face_model_from_arrays(coords, faces, fp_vertices, targets), warnings
 
 
 def mesh_and_points(obj: bpy.types.Object
@@ -183,7 +183,7 @@ def face_parts(obj: bpy.types.Object) -> list[bpy.types.Object]:
     return sorted((o for o in obj.children_recursive if o.type == "MESH"), key=lambda o: o.name)
 
 
-def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> feature_points.FaceState:
+def read_face_state(obj: bpy.types.Object, constraint_tolerance: float) -> feature_points.FaceState:
     """The head's feature point state, FAPU and Table 6 warnings, with the feature points
     its parts hold (the pupils on the eyeball objects) where the head has none: their
     vertices placed in the head's object space as they are now."""
@@ -212,4 +212,5 @@ def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> feature_po
                     part_points[fp] = part.name
     if extra:
         coords = np.vstack([coords, np.array(extra)])
-    return feature_points.face_state(coords, faces, groups, constraint_tolerance, part_points)
+    return feature_points.face_state_from_arrays(coords, faces, groups, constraint_tolerance,
+                                                 part_points)

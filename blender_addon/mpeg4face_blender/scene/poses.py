@@ -180,10 +180,12 @@ def _pose_channels(matrices: list[Matrix]) -> list[mpeg4face.TransformChannel]:
     return channels
 
 
-def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], Iterable[str]],
-               scene: bpy.types.Scene, progress: Callable[[float], None] | None = None,
-               wanted: Callable[[str], bool] | None = None
-               ) -> tuple[mpeg4face.FaceModel, list[str]]:
+def read_posed_face_model(head: bpy.types.Object,
+                          key_names: Callable[[bpy.types.Object], Iterable[str]],
+                          scene: bpy.types.Scene,
+                          progress: Callable[[float], None] | None = None,
+                          wanted: Callable[[str], bool] | None = None
+                          ) -> tuple[mpeg4face.FaceModel, list[str]]:
     """The head and its parts (meshes as the rig has them at the neutral marker, feature
     points, the shape keys key_names(object) gives plus the rig's deformed copies at the
     pose markers) with the pose markers as animations; and the warnings about FP_ groups.
@@ -280,10 +282,11 @@ def _check_feature_points_move(objects, key_names, posed, deformed, fp_objects, 
 
 def head_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], Iterable[str]],
                scene: bpy.types.Scene) -> tuple[mpeg4face.FaceModel, list[str]]:
-    """The head alone as face_model sees it (its mesh at the neutral marker, its shape keys
-    and the rig's deformed copies as morph targets, its feature points), for cloning."""
-    model, warnings = face_model(head, key_names, scene)
+    """The head alone as read_posed_face_model sees it (its mesh at the neutral marker, its
+    shape keys and the rig's deformed copies as morph targets, its feature points), for
+    cloning."""
+    model, warnings = read_posed_face_model(head, key_names, scene)
     mesh = model.meshes[0]
     fp_vertices = {fp: b.vertex for fp, b in model.feature_points.items() if b.mesh == 0}
-    return feature_points.face_model(mesh.coord, mesh.coord_index, fp_vertices,
+    return feature_points.face_model_from_arrays(mesh.coord, mesh.coord_index, fp_vertices,
                                {t.name: t.displacements for t in mesh.morph_targets}), warnings

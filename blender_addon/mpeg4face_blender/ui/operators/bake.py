@@ -38,7 +38,7 @@ def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.typ
     def key_names(o: bpy.types.Object) -> list[str]:
         return [k.name for k in (keys if o == obj else grammar_keys(o)).keys]
 
-    posed = bake_poses.bake(obj, scene, key_names, stream, start, result.frames, fps)
+    posed = bake_poses.key_poses(obj, scene, key_names, stream, start, result.frames, fps)
     baked |= set(posed.faps)
     missing -= {f"FAP {f} ({mpeg4face.fap(f).name})" for f in posed.faps}
     scene.frame_start = start

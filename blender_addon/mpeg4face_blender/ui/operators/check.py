@@ -49,7 +49,7 @@ class MPEG4FACE_OT_check_motion(bpy.types.Operator):
                 return {"CANCELLED"}
             stream.name = Path(bpy.path.abspath(state.filepath)).name
             streams.append(stream)
-        model, warnings = mesh_data.face_model(obj, [k.name for k in keys.keys])
+        model, warnings = mesh_data.read_face_model(obj, [k.name for k in keys.keys])
         for warning in warnings:
             self.report({"WARNING"}, warning)
         wm = context.window_manager

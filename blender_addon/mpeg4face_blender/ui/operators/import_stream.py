@@ -162,7 +162,7 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
         arkit = arkit_logic.arkit_key_names(names)
         if arkit:
             grammar = [n for n in names if shape_keys.is_grammar_name(n)]
-            return mesh_data.face_model(obj, arkit + grammar)[0]
+            return mesh_data.read_face_model(obj, arkit + grammar)[0]
         if not self.face_path:
             raise ValueError(
                 f"{obj.name} has no ARKit shape keys (eyeBlinkLeft, jawOpen, ...): give an "
@@ -201,7 +201,7 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
         return self.show(context, obj, keys, stream, str(path))
 
 
-def menu_entry(menu: bpy.types.Menu, context: bpy.types.Context) -> None:
+def stream_import_menu(menu: bpy.types.Menu, context: bpy.types.Context) -> None:
     menu.layout.operator(MPEG4FACE_OT_import_fap_stream.bl_idname, text="FAP stream (.fap, .fba)")
     menu.layout.operator(MPEG4FACE_OT_import_livelink_capture.bl_idname,
                          text="Live Link Face capture (.csv)")
@@ -213,10 +213,10 @@ _classes = (MPEG4FACE_OT_import_fap_stream, MPEG4FACE_OT_import_livelink_capture
 def register() -> None:
     for cls in _classes:
         bpy.utils.register_class(cls)
-    bpy.types.TOPBAR_MT_file_import.append(menu_entry)
+    bpy.types.TOPBAR_MT_file_import.append(stream_import_menu)
 
 
 def unregister() -> None:
-    bpy.types.TOPBAR_MT_file_import.remove(menu_entry)
+    bpy.types.TOPBAR_MT_file_import.remove(stream_import_menu)
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)

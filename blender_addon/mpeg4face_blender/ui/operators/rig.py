@@ -4,7 +4,7 @@ with named face bones through a FAP -> bone mapping table), each mapped FAP gets
 marker at which its bone is posed so that the FAP's feature point moves the FAP's amplitude
 (in the head's FAPU) along the FAP's direction, measured on the evaluated mesh and
 corrected until within the tolerance (rig_logic.fit_pose). "Generate FaceDefTables" and the
-export then read the rig's deformed copies there (poses.face_model). A panel in the
+export then read the rig's deformed copies there (poses.read_posed_face_model). A panel in the
 sidebar's MPEG-4 tab runs it."""
 
 # No postponed annotations: bpy reads the property annotations.
@@ -24,7 +24,7 @@ from . import faces as operators_faces
 from .feature_points import active_mesh
 
 # The last report per head object name, for the panel; forgotten with the other reports.
-reports: dict[str, rig_logic.PoseReport] = {}
+pose_reports: dict[str, rig_logic.PoseReport] = {}
 
 
 def rig_of(head: bpy.types.Object) -> bpy.types.Object | None:
@@ -57,7 +57,7 @@ def _local_direction(head: bpy.types.Object, rig: bpy.types.Object, bone: bpy.ty
     return local.normalized()
 
 
-def pose_faps(head: bpy.types.Object, rig: bpy.types.Object,
+def key_fap_poses(head: bpy.types.Object, rig: bpy.types.Object,
               mapping: dict[int, rig_logic.BoneChannel], amplitude: int,
               scene: bpy.types.Scene, tolerance: float = 0.05,
               progress: Callable[[float], None] | None = None) -> rig_logic.PoseReport:
@@ -89,7 +89,8 @@ def pose_faps(head: bpy.types.Object, rig: bpy.types.Object,
         with poses.rig_only([head], operators_faces.key_names):
             bpy.context.view_layer.update()
             neutral = feature_points.to_standard_axes(poses.evaluated_coords(head, depsgraph))
-            fapu = mpeg4face.measure_fapu(feature_points.face_model(neutral, faces, fp_vertices))
+            fapu = mpeg4face.measure_fapu(
+                feature_points.face_model_from_arrays(neutral, faces, fp_vertices))
             fits = []
             for done, (fap, channel) in enumerate(channels.items(), 1):
                 fit = _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral,
@@ -218,12 +219,12 @@ class MPEG4FACE_OT_pose_faps_bones(bpy.types.Operator):
                 path = bpy.path.abspath(self.mapping_file)
                 with open(path, encoding="utf-8") as f:
                     mapping = rig_logic.mapping_from_json(f.read(), path)
-            report = operators_faces.with_progress(context, 1, lambda update: pose_faps(
+            report = operators_faces.with_progress(context, 1, lambda update: key_fap_poses(
                 head, rig, mapping, self.amplitude, context.scene, self.tolerance, update))
         except (OSError, ValueError) as error:  # mpeg4face.Error is a ValueError
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
-        reports[head.name] = report
+        pose_reports[head.name] = report
         if not report.posed:
             self.report({"ERROR"}, "; ".join(report.lines()))
             return {"CANCELLED"}
@@ -248,7 +249,7 @@ class MPEG4FACE_PT_rig(_Sidebar, bpy.types.Panel):
         layout.label(text=f"Rig: {rig.name}" if rig else "No armature bound",
                      icon="ARMATURE_DATA")
         layout.operator(MPEG4FACE_OT_pose_faps_bones.bl_idname, icon="POSE_HLT")
-        report = reports.get(head.name)
+        report = pose_reports.get(head.name)
         if report is not None:
             for line in report.lines()[:1] + [l for l in report.lines() if
                                               l.startswith("not posed")]:

@@ -35,7 +35,7 @@ def _face_ids(obj: bpy.types.Object) -> frozenset[int]:
     return frozenset(p for o in objects for p in (o.as_pointer(), o.data.as_pointer()))
 
 
-def face_state(context: bpy.types.Context) -> feature_points.FaceState | None:
+def cached_face_state(context: bpy.types.Context) -> feature_points.FaceState | None:
     """The active mesh's state, or None when the active object is not a mesh."""
     obj = context.active_object
     if obj is None or obj.type != "MESH":
@@ -43,7 +43,7 @@ def face_state(context: bpy.types.Context) -> feature_points.FaceState | None:
     tolerance = preferences.preferences(context).constraint_tolerance
     key = (obj.as_pointer(), obj.mode, tolerance)
     if key not in _cache:
-        _cache[key] = mesh_data.face_state(obj, tolerance), _face_ids(obj)
+        _cache[key] = mesh_data.read_face_state(obj, tolerance), _face_ids(obj)
     return _cache[key][0]
 
 
@@ -54,7 +54,7 @@ class MPEG4FACE_UL_feature_points(bpy.types.UIList):
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname,
                   index=0):
-        state = face_state(context)
+        state = cached_face_state(context)
         row = state.rows[index] if state and index < len(state.rows) else None
         is_set = row is not None and row.is_set
         split = layout.split(factor=0.42)
@@ -86,7 +86,7 @@ class MPEG4FACE_PT_feature_points(_Sidebar, bpy.types.Panel):
 
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
-        state = face_state(context)
+        state = cached_face_state(context)
         if state is None:
             ui_text.label(layout, context, "Make the head mesh the active object", "INFO")
             return
@@ -138,7 +138,7 @@ class MPEG4FACE_PT_fapu(_Sidebar, bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context: bpy.types.Context) -> None:
-        state = face_state(context)
+        state = cached_face_state(context)
         if state is None:
             return
         col = self.layout.column(align=True)
@@ -158,7 +158,7 @@ class MPEG4FACE_PT_location_warnings(_Sidebar, bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context: bpy.types.Context) -> None:
-        state = face_state(context)
+        state = cached_face_state(context)
         if state is None:
             return
         col = self.layout.column(align=True)
