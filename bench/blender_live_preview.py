@@ -35,7 +35,9 @@ import blender_session  # noqa: E402
 ARGS = blender_session.start()
 
 import bpy  # noqa: E402
-from mpeg4face_blender import operators_stream, stream_logic  # noqa: E402
+from mpeg4face_blender.logic import stream as stream_logic  # noqa: E402
+from mpeg4face_blender.scene import live_preview, stream_data  # noqa: E402
+from mpeg4face_blender.ui.operators import stream as operators_stream  # noqa: E402
 
 
 def per_frame(scene: bpy.types.Scene, frames: range, passes: int, work=None
@@ -68,9 +70,9 @@ def figure(ms: tuple[float, float]) -> str:
 def start(head: bpy.types.Object, scene: bpy.types.Scene, keys, stream, draw: bool
           ) -> tuple[float, float]:
     """Seconds (wall, CPU) to start the live preview."""
-    operators_stream.stop_live(head)
+    live_preview.stop_live(head)
     begin, begin_cpu = time.perf_counter(), time.process_time()
-    operators_stream.start_live(head, scene, keys, stream, scene.frame_start, draw=draw)
+    live_preview.start_live(head, scene, keys, stream, scene.frame_start, draw=draw)
     return time.perf_counter() - begin, time.process_time() - begin_cpu
 
 
@@ -87,14 +89,14 @@ def main() -> None:
     bpy.context.view_layer.objects.active = head
     parts = [head, *head.children_recursive]
     vertices = sum(len(o.data.vertices) for o in parts if o.type == "MESH")
-    keys = operators_stream.grammar_keys(head)
+    keys = stream_data.grammar_keys(head)
     stream = operators_stream.read_stream(None, str(args.stream))
     print(f"bench: {head.name}: {vertices} vertices in {len(parts)} objects, "
           f"{len(keys.keys)} FAP shape keys of {len({k.fap for k in keys.keys})} FAPs; stream "
           f"{args.stream.name} animating {len(stream_logic.animated_faps(stream))} FAPs")
     cold = start(head, scene, keys, stream, draw=True)
     warm = [start(head, scene, keys, stream, draw=True) for _ in range(args.passes)]
-    operators_stream.stop_live(head)
+    live_preview.stop_live(head)
     print(f"start     cold {cold[0]:5.2f} s ({cold[1]:5.2f} cpu)   then median of "
           f"{args.passes}: {statistics.median(w for w, _ in warm):5.2f} s "
           f"({statistics.median(c for _, c in warm):5.2f} cpu)")
@@ -109,9 +111,9 @@ def main() -> None:
         start(head, scene, keys, stream, draw)
         cost = per_frame(scene, frames, args.passes)
         handler = per_frame(scene, frames, args.passes,
-                            lambda: operators_stream._show_all(scene))  # noqa: SLF001
+                            lambda: live_preview._show_all(scene))  # noqa: SLF001
         print(f"{mode:9} frame_set {figure(cost)}   handler {figure(handler)}")
-        operators_stream.stop_live(head)
+        live_preview.stop_live(head)
 
 
 main()

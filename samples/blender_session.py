@@ -31,11 +31,11 @@ def start() -> list[str]:
 def head_object():
     """The scene's head: the root mesh object holding feature points (FP_ vertex groups)."""
     import bpy
-    from mpeg4face_blender import fp_logic
+    from mpeg4face_blender.logic import feature_points
 
     for obj in bpy.context.scene.objects:
         if obj.type == "MESH" and obj.parent is None and any(
-                fp_logic.feature_point_of_group(g.name) for g in obj.vertex_groups):
+                feature_points.feature_point_of_group(g.name) for g in obj.vertex_groups):
             return obj
     raise SystemExit("the scene has no head (a mesh with FP_ vertex groups)")
 

@@ -33,7 +33,7 @@ ARGS = blender_session.start()
 import bpy  # noqa: E402
 import mpeg4face  # noqa: E402
 import numpy as np  # noqa: E402
-from mpeg4face_blender import poses  # noqa: E402
+from mpeg4face_blender.scene import poses  # noqa: E402
 
 
 def arkit_name(name: str) -> str:

@@ -32,7 +32,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import mpeg4face  # noqa: E402
 import numpy as np  # noqa: E402
-from mpeg4face_blender import fp_logic  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
 from PIL import Image  # noqa: E402  (matplotlib's own dependency)
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -60,7 +60,7 @@ class Scene:
         for mesh in head.meshes:
             data = bpy.data.meshes.new(mesh.name)
             faces = np.split(mesh.coord_index, np.flatnonzero(mesh.coord_index == -1) + 1)
-            data.from_pydata(fp_logic.to_blender_axes(mesh.coord).tolist(), [],
+            data.from_pydata(feature_points.to_blender_axes(mesh.coord).tolist(), [],
                              [f[:-1].tolist() for f in faces if len(f) > 1])
             data.polygons.foreach_set("use_smooth", [True] * len(data.polygons))
             material = bpy.data.materials.new(mesh.name)
@@ -120,7 +120,7 @@ class Scene:
     def render(self, coords: list[np.ndarray], view: str, frame: tuple[float, float, float],
                path: Path, size: tuple[int, int]) -> None:
         for obj, c in zip(self.objects, coords):
-            obj.data.vertices.foreach_set("co", fp_logic.to_blender_axes(c).ravel())
+            obj.data.vertices.foreach_set("co", feature_points.to_blender_axes(c).ravel())
             obj.data.update()
         scene = bpy.context.scene
         scene.render.resolution_x, scene.render.resolution_y = size

@@ -25,7 +25,7 @@ import blender_session  # noqa: E402
 ARGS = blender_session.start()
 
 import bpy  # noqa: E402
-from mpeg4face_blender import poses  # noqa: E402
+from mpeg4face_blender.scene import poses  # noqa: E402
 
 KEY = re.compile(r"(viseme|expression)(\d+)")
 

@@ -29,7 +29,8 @@ import bpy  # noqa: E402
 import mpeg4face  # noqa: E402
 import numpy as np  # noqa: E402
 from mathutils import Euler, Matrix, Quaternion, Vector  # noqa: E402
-from mpeg4face_blender import fp_logic, poses  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene import poses  # noqa: E402
 
 NEUTRAL_FRAME = 1000  # poses after it, out of the way of an animation from frame 1
 COLOURS = {  # mesh -> base colour (linear RGB), roughness
@@ -67,18 +68,18 @@ def mesh_object(mesh: mpeg4face.IndexedFaceSet, name: str) -> bpy.types.Object:
     """The mesh with its morph targets as shape keys (coordinates in the object's frame)."""
     data = bpy.data.meshes.new(name)
     faces = np.split(mesh.coord_index, np.flatnonzero(mesh.coord_index == -1) + 1)
-    data.from_pydata(fp_logic.to_blender_axes(mesh.coord).tolist(), [],
+    data.from_pydata(feature_points.to_blender_axes(mesh.coord).tolist(), [],
                      [f[:-1].tolist() for f in faces if len(f) > 1])
     data.polygons.foreach_set("use_smooth", [True] * len(data.polygons))
     obj = bpy.data.objects.new(name, data)
     bpy.context.scene.collection.objects.link(obj)
     if mesh.morph_targets:
         obj.shape_key_add(name="Basis", from_mix=False)
-        basis = fp_logic.to_blender_axes(mesh.coord)
+        basis = feature_points.to_blender_axes(mesh.coord)
         for target in mesh.morph_targets:
             block = obj.shape_key_add(name=target.name, from_mix=False)
             block.data.foreach_set(
-                "co", (basis + fp_logic.to_blender_axes(target.displacements)).ravel())
+                "co", (basis + feature_points.to_blender_axes(target.displacements)).ravel())
     kind = next((k for k in COLOURS if mesh.name.startswith(k)), "skin")
     obj.data.materials.append(material(kind))
     if kind == "eye":  # the iris: the faces at the front of the eyeball
@@ -112,7 +113,7 @@ def build(model: mpeg4face.FaceModel, head_name: str) -> bpy.types.Object:
                 obj.matrix_basis = Matrix.Identity(4) if t_index == head_transform else local
     for fp, binding in model.feature_points.items():
         if binding.vertex >= 0:  # 7.1 / 7.2 are free coordinates: Blender has no place for them
-            group = objects[binding.mesh].vertex_groups.new(name=fp_logic.group_name(fp))
+            group = objects[binding.mesh].vertex_groups.new(name=feature_points.group_name(fp))
             group.add([binding.vertex], 1.0, "REPLACE")
     add_poses(model, objects)
     return head
@@ -180,7 +181,7 @@ def stage(head: bpy.types.Object, model: mpeg4face.FaceModel) -> None:
     # Aimed a little below the middle of skull top and chin (the mouth matters most), close
     # enough for the face to fill the frame.
     middle = (0.0, chin[1] + 0.45 * (top[1] - chin[1]), chin[2])
-    centre = Vector(fp_logic.to_blender_axes(middle)[0])
+    centre = Vector(feature_points.to_blender_axes(middle)[0])
     height = top[1] - chin[1]
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     scene.collection.objects.link(camera)

@@ -29,8 +29,8 @@ ARGS = blender_session.start()
 import bpy  # noqa: E402
 from bpy_extras.object_utils import world_to_camera_view  # noqa: E402
 import mpeg4face  # noqa: E402
-from mpeg4face_blender import fp_logic  # noqa: E402
-from mpeg4face_blender.operators_stream import LIVE_KEY  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene.live_preview import LIVE_KEY  # noqa: E402
 
 FeaturePoint = tuple[str, bpy.types.Object, int]  # fp, its object, its vertex
 
@@ -42,7 +42,7 @@ def all_feature_points(head: bpy.types.Object) -> list[FeaturePoint]:
         if obj.type != "MESH":
             continue
         for group in obj.vertex_groups:
-            fp = fp_logic.feature_point_of_group(group.name)
+            fp = feature_points.feature_point_of_group(group.name)
             if fp is not None:
                 vertex = next(v.index for v in obj.data.vertices
                               if any(g.group == group.index for g in v.groups))

@@ -31,7 +31,9 @@ from mathutils import Vector  # noqa: E402
 sys.path.insert(0, str(blender_session.ROOT / "tests" / "blender"))
 from test_addon_rigify import face_metarig, makehuman_skin  # noqa: E402
 
-from mpeg4face_blender import operators_faces, operators_stream, shape_keys  # noqa: E402
+from mpeg4face_blender.logic import shape_keys  # noqa: E402
+from mpeg4face_blender.scene import live_preview, stream_data  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 FAPS = (3, 15, 4, 5, 6, 12, 19, 21, 31, 35)
 
@@ -105,11 +107,11 @@ def main() -> None:
     stream = mpeg4face.FapStream.from_arrays(np.arange(len(faps)), mask, values,
                                              frame_rate=scene.render.fps)
     start = max(markers.values()) + 10
-    keys = operators_stream.grammar_keys(head)
-    operators_stream.start_live(head, scene, keys, stream, start)
+    keys = stream_data.grammar_keys(head)
+    live_preview.start_live(head, scene, keys, stream, start)
     render_sheet(head, [(start + i, f"table {note}") for i, (_, note) in enumerate(shown)],
                  args.tables_png, 4)
-    operators_stream.stop_live(head)
+    live_preview.stop_live(head)
     report = operators_faces.generate(head, 0.01, scene)[1]
     print(f"rig_pictures: {len(shown) - 1} poses, {report.lines()[0]} -> {args.poses_png}, "
           f"{args.tables_png}")

@@ -23,11 +23,11 @@ fail() { say "error: $*" >&2; exit 1; }
 command -v "$blender" >/dev/null || fail "Blender not found (set BLENDER to its path)"
 
 # One question to Blender: its Python version, the extension suffix that Python imports,
-# and its user add-on folder (compat.user_addon_dir, the one place that knows it).
+# and its user add-on folder (scene/compat.user_addon_dir, the one place that knows it).
 answer=$("$blender" -b --factory-startup --python-exit-code 1 --python-expr "
 import importlib.machinery, sys
 sys.path.insert(0, '$root/blender_addon')
-from $addon import compat
+from $addon.scene import compat
 print('PYTHON=%d.%d' % sys.version_info[:2])
 print('SUFFIX=' + importlib.machinery.EXTENSION_SUFFIXES[0])
 print('ADDONS=' + compat.user_addon_dir())
@@ -61,7 +61,8 @@ say "enabling the add-on and saving the preferences"
 "$blender" -b --python-exit-code 1 --python-expr "
 import addon_utils, bpy, sys
 addon_utils.enable('$addon', default_set=True)
-from $addon import native, preferences
+from $addon import native
+from $addon.ui import preferences
 if not preferences.status.ok:
     print('\n'.join(native.problem(preferences.status)), file=sys.stderr)
     sys.exit(1)

@@ -1,10 +1,15 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """MPEG-4 Face: feature points and FAPU of a head mesh, on top of the mpeg4face module.
 
-Layout (like Blender's glTF add-on): native.py and fp_logic.py are bpy-free; properties,
-operators, panels and preferences are the thin bpy layer; compat.py holds what differs
-between Blender 3.x and 4.x. Nothing here imports bpy at import time, so the bpy-free
-modules can be tested with plain pytest.
+Layout (like Blender's glTF add-on, a bpy-free layer under a thin bpy one):
+- native.py: finds and loads mpeg4face (bpy-free; the preferences show why it failed)
+- logic/: bpy-free (numpy and mpeg4face), tested with plain pytest
+- scene/: the bpy data layer: reads and writes meshes, shape keys, rigs, keyframes;
+  scene/compat.py holds what differs between Blender 3.x and 4.x
+- ui/: properties, preferences, operators/ (a module per concern), panels/, text helpers;
+  ui.feature_modules() is the registration list
+Nothing here imports bpy at import time, so the bpy-free modules can be tested with plain
+pytest.
 """
 
 from __future__ import annotations
@@ -30,22 +35,15 @@ _registered: list[ModuleType] = []
 def register() -> None:
     """Registers the preferences always and the rest only when mpeg4face imports; never
     raises, so Blender keeps the add-on enabled and the preferences can say what is wrong."""
-    from . import preferences
+    from .ui import preferences
 
     status = native.load()
     try:
         preferences.register()
         if status.ok:
-            from . import (
-                export, import_stream, operators, operators_arkit, operators_check,
-                operators_faces, operators_stream, panels, panels_faces, panels_stream,
-                properties,
-            )
-            from . import import_mesh2d, operators_rig
+            from . import ui
 
-            for module in (properties, operators, panels, operators_faces, operators_arkit,
-                           panels_faces, export, operators_stream, import_stream,
-                           panels_stream, operators_check, operators_rig, import_mesh2d):
+            for module in ui.feature_modules():
                 module.register()
                 _registered.append(module)
     except Exception as error:  # noqa: BLE001 - e.g. a module too old for this add-on
@@ -60,7 +58,7 @@ def _unregister_features() -> None:
 
 
 def unregister() -> None:
-    from . import preferences
+    from .ui import preferences
 
     _unregister_features()
     if preferences.MPEG4FACE_AP_preferences.is_registered:

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from types import SimpleNamespace
 
-from mpeg4face_blender import ui_text
+from mpeg4face_blender.ui import text as ui_text
 
 LIST_MARGIN = 2 * 6 + 20  # a UIList's frame and its scroll bar, px at scale 1
 

@@ -14,8 +14,10 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 import mpeg4face  # noqa: E402
 from conftest import DATA, candide_arkit_shapes  # noqa: E402
 
-from mpeg4face_blender import (  # noqa: E402
-    compat, fp_logic, mesh_data, operators_arkit, operators_stream, shape_keys, stream_logic)
+from mpeg4face_blender.logic import feature_points, shape_keys  # noqa: E402
+from mpeg4face_blender.logic import stream as stream_logic  # noqa: E402
+from mpeg4face_blender.scene import compat, live_preview, mesh_data, stream_data  # noqa: E402
+from mpeg4face_blender.ui.operators import arkit as operators_arkit  # noqa: E402
 
 CAPTURE = DATA / "livelink-face" / "MySlate_3_Jason_Millers_iPhone.csv"
 
@@ -31,7 +33,7 @@ def add_shape(obj, name, displacement):
         obj.shape_key_add(name="Basis", from_mix=False)
     key = obj.shape_key_add(name=name, from_mix=False)
     basis = mesh_data.shape_key_coords(obj.data.shape_keys.reference_key)
-    mesh_data.set_shape_key_coords(key, basis + fp_logic.to_blender_axes(displacement))
+    mesh_data.set_shape_key_coords(key, basis + feature_points.to_blender_axes(displacement))
 
 
 @pytest.fixture
@@ -49,7 +51,7 @@ def arkit_head(candide_head):
     scene.render.fps, scene.render.fps_base = 30, 1.0
     scene.frame_start, scene.frame_end = 1, 250
     yield obj, model, fp_vertices
-    operators_stream.stop_live(obj)
+    live_preview.stop_live(obj)
     for action in list(bpy.data.actions):
         bpy.data.actions.remove(action)
 
@@ -62,7 +64,7 @@ def test_fap_keys_from_arkit_keys(arkit_head):
     for name, coords in before.items():  # the Basis, the ARKit keys and Smirk as they were
         assert np.array_equal(after[name], coords), name
     made = set(after) - set(before)
-    report = operators_arkit.reports[obj.name]
+    report = operators_arkit.arkit_reports[obj.name]
     assert len(made) == report.written and report.replaced == 0
     assert report.visemes > 0 and report.missed
     [jaw] = [n for n in made if n.startswith("fap3_open_jaw@")]
@@ -80,7 +82,7 @@ def test_fap_keys_from_arkit_keys(arkit_head):
     order = list(blocks.keys())
     assert bpy.ops.mpeg4face.arkit_fap_keys() == {"FINISHED"}
     assert list(obj.data.shape_keys.key_blocks.keys()) == order
-    assert operators_arkit.reports[obj.name].replaced == len(made)
+    assert operators_arkit.arkit_reports[obj.name].replaced == len(made)
     assert blocks[jaw].slider_max == 3.0
     np.testing.assert_allclose(mesh_data.shape_key_coords(blocks[jaw]), after[jaw], atol=1e-6)
 
@@ -135,18 +137,18 @@ def test_capture_import_baked_and_live(arkit_head, tmp_path):
     basis = mesh_data.shape_key_coords(blocks["Basis"])[fp_vertices["2.1"]]
     chin = sum(baked(obj, name, 3 + np.arange(frames))
                * (mesh_data.shape_key_coords(blocks[name])[fp_vertices["2.1"], 2] - basis[2])
-               for name in (k.name for k in operators_stream.grammar_keys(obj).keys if k.fap >= 3))
+               for name in (k.name for k in stream_data.grammar_keys(obj).keys if k.fap >= 3))
     assert np.ptp(jaw_open) > 0.2 and np.corrcoef(-chin, jaw_open)[0, 1] >= 0.9
     assert np.abs(-chin - 0.1 * jaw_open).mean() <= 0.15 * 0.1 * jaw_open.max()
 
     # Live: the core's evaluation drops the chin where the jaw is most open.
     assert bpy.ops.mpeg4face.import_livelink_capture(
         filepath=str(CAPTURE), folder=str(tmp_path), preview="LIVE") == {"FINISHED"}
-    assert operators_stream.is_live(obj)
+    assert live_preview.is_live(obj)
     chin = fp_vertices["2.1"]
     basis = mesh_data.shape_key_coords(obj.data.shape_keys.reference_key)[chin]
     scene.frame_set(1 + int(np.argmax(jaw_open)))
-    live = mesh_data.shape_key_coords(obj.data.shape_keys.key_blocks[operators_stream.LIVE_KEY])
+    live = mesh_data.shape_key_coords(obj.data.shape_keys.key_blocks[live_preview.LIVE_KEY])
     # jawOpen drops the chin by 0.1 at weight 1 (conftest.candide_arkit_shapes).
     assert basis[2] - live[chin][2] == pytest.approx(0.1 * np.max(jaw_open), rel=0.3)
 
@@ -157,8 +159,9 @@ def test_capture_through_an_arkit_face_file(candide_head, tmp_path):
     mesh = model.meshes[0]
     shapes = candide_arkit_shapes(mesh.coord, fp_vertices)
     face = tmp_path / "arkit.glb"
-    mpeg4face.write_gltf(fp_logic.face_model(mesh.coord, mesh.coord_index, fp_vertices, shapes),
-                         str(face))
+    mpeg4face.write_gltf(
+        feature_points.face_model_from_arrays(mesh.coord, mesh.coord_index, fp_vertices, shapes),
+        str(face))
     drop = np.zeros_like(mesh.coord)
     drop[fp_vertices["2.1"]] = (0, -0.1, 0)
     add_shape(obj, "fap3_open_jaw@512", drop)

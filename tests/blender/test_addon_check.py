@@ -10,7 +10,9 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 import mpeg4face  # noqa: E402
 
-from mpeg4face_blender import check_logic, mesh_data, operators_check  # noqa: E402
+from mpeg4face_blender.logic import check as check_logic  # noqa: E402
+from mpeg4face_blender.scene import mesh_data  # noqa: E402
+from mpeg4face_blender.ui.operators import check as operators_check  # noqa: E402
 
 
 def test_check_and_select(candide_head, tmp_path):

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""compat.py, the Blender version differences: on this Blender the helpers give what the
+"""scene/compat.py, the Blender version differences: on this Blender the helpers give what the
 add-on used before they existed (Action.fcurves, SequenceEditor.sequences on 3.4), and
 stand-ins with only the 4.4 / 5.0 names (strips; slots, layers, channelbags and no
 Action.fcurves) take the new path. Run through run_in_blender.py."""
@@ -10,7 +10,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_blender.py)")
 
-from mpeg4face_blender import compat  # noqa: E402
+from mpeg4face_blender.scene import compat  # noqa: E402
 
 PATH = 'key_blocks["open"].value'
 GROUP = "MPEG-4 FAP stream"

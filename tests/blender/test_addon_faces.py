@@ -14,7 +14,9 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 import mpeg4face  # noqa: E402
 
-from mpeg4face_blender import fp_logic, mesh_data, operators_faces  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene import mesh_data  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 JAW = 0.05  # how far the test's open_jaw key moves the chin, in Blender's -Z
 
@@ -165,7 +167,7 @@ def test_generate_tables(head):
     before = keys_of(obj)
     assert bpy.ops.mpeg4face.generate_tables() == {"FINISHED"}
     assert_kept(before, keys_of(obj))
-    report = operators_faces.reports[obj.name]
+    report = operators_faces.table_reports[obj.name]
     assert report.covered == ["fap3 open_jaw"] and report.moved == [1]
     assert report.copies == 1 and report.ignored == ["Smirk"]
 
@@ -222,7 +224,7 @@ def scaled_copy(source, fp_vertices, scale):
     target.shape_key_add(name="Basis", from_mix=False)
     target.shape_key_add(name="Mine", from_mix=False)
     for group in source.vertex_groups:
-        fp = fp_logic.feature_point_of_group(group.name)
+        fp = feature_points.feature_point_of_group(group.name)
         if fp:
             target.vertex_groups.new(name=group.name).add([fp_vertices[fp]], 1.0, "REPLACE")
     target.select_set(True)
@@ -330,7 +332,7 @@ def test_bad_input_reports(candide_head, tmp_path):
 def test_export_menu_entries():
     from test_addon_feature_points import draw
 
-    from mpeg4face_blender import export
+    from mpeg4face_blender.ui.operators import export
 
     assert export._menu in bpy.types.TOPBAR_MT_file_export._dyn_ui_initialize()
     lines = draw(SimpleNamespace(draw=export._menu))
@@ -341,7 +343,7 @@ def test_export_menu_entries():
 def test_export_options_sub_panels():
     """The file browser's operator panel shows the options in sub-panels for our two
     exporters only; each draws its property of the running operator."""
-    from mpeg4face_blender import export
+    from mpeg4face_blender.ui.operators import export
 
     class Recording:
         def __init__(self):
@@ -371,10 +373,10 @@ def test_export_options_sub_panels():
 def test_panels(head):
     from test_addon_feature_points import draw, draw_joined
 
-    from mpeg4face_blender import panels_faces
+    from mpeg4face_blender.ui.panels import faces as panels_faces
 
     obj, _ = head
-    operators_faces.reports.clear()  # earlier tests' heads had the same name
+    operators_faces.table_reports.clear()  # earlier tests' heads had the same name
     lines = draw(panels_faces.MPEG4FACE_PT_shape_keys)
     assert lines[0] == "1 shape keys named for MPEG-4"
     assert "operator mpeg4face.mirror_shape_key: " in lines
@@ -384,7 +386,7 @@ def test_panels(head):
     # the summary in the panel, the whole report (a line per table) in a popup
     assert "1 FaceDefTables from 1 shape keys" in lines
     assert "operator mpeg4face.show_report: " in lines
-    assert "fap3 open_jaw: 1 vertices" in operators_faces.reports[obj.name].lines()
+    assert "fap3 open_jaw: 1 vertices" in operators_faces.table_reports[obj.name].lines()
     assert bpy.ops.mpeg4face.show_report(kind="TABLES") == {"FINISHED"}
     lines = draw_joined(panels_faces.MPEG4FACE_PT_cloning)
     assert "Targets: select other meshes" in lines

@@ -13,7 +13,10 @@ import bmesh  # noqa: E402
 import mpeg4face  # noqa: E402
 from conftest import group_members  # noqa: E402
 
-from mpeg4face_blender import fp_logic, mesh_data, panels, properties  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene import mesh_data  # noqa: E402
+from mpeg4face_blender.ui import properties  # noqa: E402
+from mpeg4face_blender.ui.panels import feature_points as panels  # noqa: E402
 
 
 def edit_and_select(obj, vertices):
@@ -132,7 +135,7 @@ def test_state_statuses_fapu_and_warnings(candide_head):
     expected = mpeg4face.measure_fapu(model)
     for mode in ("OBJECT", "EDIT"):  # Edit Mode reads the edit bmesh
         bpy.ops.object.mode_set(mode=mode)
-        state = mesh_data.face_state(obj, 0.02)
+        state = mesh_data.read_face_state(obj, 0.02)
         assert {r.id: r.vertex for r in state.rows if r.is_set} == fp_vertices
         for reading in state.fapu:
             distance = getattr(expected, reading.name.lower())
@@ -197,7 +200,7 @@ def test_mirror_places_missing_partners(candide_head):
     obj, _, fp_vertices = candide_head
     coords = {v.index: v.co.copy() for v in obj.data.vertices}
     removed = [fp for fp, v in fp_vertices.items()
-               if coords[v].x < 0 and fp in fp_logic.mirror_partners()]
+               if coords[v].x < 0 and fp in feature_points.mirror_partners()]
     assert len(removed) > 20
     for fp in removed:
         obj.vertex_groups.remove(obj.vertex_groups[f"FP_{fp}"])

@@ -51,7 +51,7 @@ def test_install_script(user_dirs):
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stdout + run.stderr
     addon = tmp / "scripts" / "addons" / "mpeg4face_blender"
-    assert (addon / "__init__.py").is_file() and (addon / "fp_logic.py").is_file()
+    assert (addon / "__init__.py").is_file() and (addon / "logic" / "feature_points.py").is_file()
     assert list((addon / "lib" / "mpeg4face").glob("_core*.so"))
     assert (tmp / "config" / "userpref.blend").is_file()
     assert "install_blender_addon: done" in run.stdout

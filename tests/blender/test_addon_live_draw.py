@@ -15,22 +15,24 @@ from mathutils import Matrix  # noqa: E402
 from test_addon_stream import (  # noqa: E402,F401 - fixtures
     EYE_TURN, JOY, coords, eye, head, live_coords, moved, write_stream)
 
-from mpeg4face_blender import (  # noqa: E402
-    fp_logic, live_draw, live_logic, operators_faces, operators_stream, poses)
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.logic import live as live_logic  # noqa: E402
+from mpeg4face_blender.scene import live_draw, live_preview, poses, stream_data  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 
 def start_drawn(obj, path):
-    keys = operators_stream.grammar_keys(obj)
+    keys = stream_data.grammar_keys(obj)
     stream = mpeg4face.read_fap_stream(path)
-    operators_stream.start_live(obj, bpy.context.scene, keys, stream, 1, draw=True)
-    return operators_stream._live[obj.name]  # noqa: SLF001
+    live_preview.start_live(obj, bpy.context.scene, keys, stream, 1, draw=True)
+    return live_preview._live[obj.name]  # noqa: SLF001
 
 
 def test_drawn_preview_fills_buffers_and_tags_no_mesh(head, eye, tmp_path):
     faps = {3: [0, 256, 400], 23: [0, 20000, -12000]}
     path = write_stream(tmp_path / "eye.fap", faps)
     scene = bpy.context.scene
-    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
     stream = mpeg4face.read_fap_stream(path)
     eye_basis, head_basis = coords(eye.data), coords(head.data)
@@ -54,7 +56,7 @@ def test_drawn_preview_fills_buffers_and_tags_no_mesh(head, eye, tmp_path):
             turn = Matrix.Rotation(EYE_TURN * faps[23][index] / 30000, 4, "Z")
             np.testing.assert_allclose(eye_drawn.positions, moved(turn, eye_basis), atol=1e-6)
             core = evaluator.evaluate(stream, index)["coord"][0]
-            np.testing.assert_allclose(head_drawn.positions, fp_logic.to_blender_axes(core),
+            np.testing.assert_allclose(head_drawn.positions, feature_points.to_blender_axes(core),
                                        atol=1e-6)
             for drawn in (head_drawn, eye_drawn):  # the normals of the shown shape
                 expected = mpeg4face.vertex_normals(drawn.positions, drawn.triangles)
@@ -77,10 +79,10 @@ def test_drawn_preview_fills_buffers_and_tags_no_mesh(head, eye, tmp_path):
 
     assert not head.modifiers[live_draw.HIDE_MODIFIER].show_in_editmode
 
-    operators_stream.stop_live(head)
+    live_preview.stop_live(head)
     assert not head.modifiers and not eye.modifiers
     assert live_draw.HIDE_GROUP not in bpy.data.node_groups
-    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert live_preview.LIVE_KEY not in head.data.shape_keys.key_blocks
 
 
 def test_renamed_head_keeps_its_preview(head, tmp_path):
@@ -91,18 +93,18 @@ def test_renamed_head_keeps_its_preview(head, tmp_path):
     before = live_coords(head)
     head.name = "renamed head"
     bpy.context.scene.frame_set(2)
-    assert "renamed head" in operators_stream._live  # noqa: SLF001
-    assert operators_stream.is_live(head)
+    assert "renamed head" in live_preview._live  # noqa: SLF001
+    assert live_preview.is_live(head)
     assert np.abs(live_coords(head) - before).max() > 0.05  # the jaw opened
 
 
 def test_a_stopped_preview_says_why(head):
-    operators_stream._stopped.clear()  # noqa: SLF001
+    live_preview._stopped.clear()  # noqa: SLF001
     bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
-    head.shape_key_remove(head.data.shape_keys.key_blocks[operators_stream.LIVE_KEY])
+    head.shape_key_remove(head.data.shape_keys.key_blocks[live_preview.LIVE_KEY])
     bpy.context.scene.frame_set(3)
-    assert not operators_stream._live  # noqa: SLF001
-    assert operators_stream._stopped and head.name in operators_stream._stopped[-1]  # noqa: SLF001
+    assert not live_preview._live  # noqa: SLF001
+    assert live_preview._stopped and head.name in live_preview._stopped[-1]  # noqa: SLF001
 
 
 def test_normals_turn_with_the_placement():
@@ -158,5 +160,5 @@ def test_bake_keeps_the_eye_and_head_poses_live_shows(head, eye, tmp_path):
 
 def test_a_file_saved_while_drawing_shows_its_head_after_loading(head):
     live_draw.hide(head)
-    operators_stream._clean_after_load()  # noqa: SLF001 - the load_post handler
+    live_preview._clean_after_load()  # noqa: SLF001 - the load_post handler
     assert not head.modifiers and live_draw.HIDE_GROUP not in bpy.data.node_groups

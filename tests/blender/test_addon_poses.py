@@ -13,7 +13,8 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 import mpeg4face  # noqa: E402
 
-from mpeg4face_blender import operators_faces, poses  # noqa: E402
+from mpeg4face_blender.scene import poses  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 EYE_TURN = 0.3  # radians about Blender's Z (the standard's Y) at fap23@100000
 HEAD_TURN = 0.2  # radians at fap49@20000
@@ -78,7 +79,7 @@ def test_poses_become_face_def_transforms(posed_head, tmp_path):
     assert poses.parts(head) == [eye, teeth]
     assert bpy.ops.mpeg4face.generate_tables() == {"FINISHED"}
     assert bpy.context.scene.frame_current == 5  # back where the user was
-    report = operators_faces.reports[head.name]
+    report = operators_faces.table_reports[head.name]
     tables = dict(zip(report.covered, zip(report.moved, report.transforms)))
     assert tables["fap23 yaw_l_eyeball"] == (0, 1)  # the eye turns, nothing else
     assert tables["fap49 head_yaw"] == (0, 1)  # the head's transform
@@ -108,7 +109,7 @@ def test_the_neutral_marker_chooses_the_neutral_frame(posed_head):
     head, eye, _ = posed_head
     scene = bpy.context.scene
     scene.timeline_markers["neutral"].frame = 10  # the turned eye is now the neutral one
-    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene)
     assert rotation_about_y(model.transforms[1].rotation) == pytest.approx(EYE_TURN, abs=1e-6)
     scene.timeline_markers.remove(scene.timeline_markers["neutral"])
     assert poses.neutral_frame(scene) == scene.frame_start
@@ -118,7 +119,7 @@ def test_poses_alone_make_tables_and_bad_names_are_reported(posed_head):
     head, _, _ = posed_head
     head.shape_key_clear()  # poses only: still something to generate from
     assert bpy.ops.mpeg4face.generate_tables() == {"FINISHED"}
-    assert operators_faces.reports[head.name].copies == 3
+    assert operators_faces.table_reports[head.name].copies == 3
     bpy.context.scene.timeline_markers.new("fap23@", frame=40)
     with pytest.raises(RuntimeError, match=r"animation 'fap23@'.*fap<N>\[_<name>\]@<amplitude>"):
         bpy.ops.mpeg4face.generate_tables()

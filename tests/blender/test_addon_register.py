@@ -12,7 +12,9 @@ import addon_utils  # noqa: E402
 from conftest import ADDON  # noqa: E402
 
 import mpeg4face_blender  # noqa: E402
-from mpeg4face_blender import fp_logic, native, preferences, properties  # noqa: E402
+from mpeg4face_blender import native  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.ui import preferences, properties  # noqa: E402
 
 
 def registered() -> dict[str, bool]:
@@ -36,8 +38,8 @@ def test_enable_registers_everything():
     items = bpy.context.window_manager.mpeg4face_feature_points
     assert len(items) == 85
     assert (items[0].fp_id, items[0].name) == ("2.1", "2.1 Bottom of the chin")
-    assert {i.fp_id for i in items if i.needed_for_fapu} == fp_logic.fapu_points()
-    assert {i.fp_id for i in items if i.needed_for_cloning} == fp_logic.cloning_points()
+    assert {i.fp_id for i in items if i.needed_for_fapu} == feature_points.fapu_points()
+    assert {i.fp_id for i in items if i.needed_for_cloning} == feature_points.cloning_points()
 
 
 def test_register_unregister_twice(addon_disabled):

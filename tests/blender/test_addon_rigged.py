@@ -22,7 +22,9 @@ import mpeg4face  # noqa: E402
 from mathutils import Matrix, Vector  # noqa: E402
 
 import conftest  # noqa: E402
-from mpeg4face_blender import fp_logic, mesh_data, operators_faces, poses  # noqa: E402
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene import mesh_data, poses  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 # marker -> frame, (jaw, left eye, right eye) rotations in radians
 JAW_HALF, JAW_FULL, EYE_TURN = 0.12, 0.3, 0.25
@@ -127,7 +129,7 @@ def rigged(candide_head):
 def evaluated(head, frame):
     """The rig's own mesh at a frame, standard axes."""
     bpy.context.scene.frame_set(frame)
-    return fp_logic.to_standard_axes(
+    return feature_points.to_standard_axes(
         poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get()))
 
 
@@ -177,7 +179,7 @@ def test_rig_poses_become_tables(rigged, tmp_path):
     assert bpy.ops.mpeg4face.export_vrml(filepath=str(wrl)) == {"FINISHED"}
     assert bpy.ops.mpeg4face.export_gltf(filepath=str(glb)) == {"FINISHED"}
     assert scene.frame_current == 5
-    report = operators_faces.reports[head.name]
+    report = operators_faces.table_reports[head.name]
     assert report.ignored == ["jaw_corrective"] and report.copies == 4
     face = mpeg4face.read_vrml(wrl)
     face.validate()
@@ -253,7 +255,7 @@ def test_rig_copies_are_quick(rigged, capsys):
         scene.timeline_markers.new(f"fap3_open_jaw@{(i + 1) * 20}", frame=2 + i)
     fractions = []
     start = time.perf_counter()
-    model, _ = poses.face_model(head, operators_faces.key_names, scene, fractions.append)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene, fractions.append)
     seconds = time.perf_counter() - start
     with capsys.disabled():
         print(f"\nrig copies: 60 markers x {vertices} vertices in {seconds:.2f} s")
@@ -301,7 +303,7 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
     key holds the rig's motion, so the Armature modifier is off meanwhile, on again after."""
     head, _, _ = rigged
     scene = bpy.context.scene
-    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
     frames = 3
     mask = np.zeros((frames, 68), dtype=bool)
@@ -325,7 +327,7 @@ def test_live_preview_shows_the_tables_without_the_rig_twice(rigged, tmp_path):
         scene.frame_set(start + index)
         shown = poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get())
         expected = evaluator.evaluate(stream, index)["coord"][0]
-        np.testing.assert_allclose(fp_logic.to_standard_axes(shown), expected, atol=1e-5)
+        np.testing.assert_allclose(feature_points.to_standard_axes(shown), expected, atol=1e-5)
     assert np.abs(expected - model.meshes[0].coord).max() > 0.05  # the jaw open, an eye turned
     assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
     assert armature.show_viewport and "mpeg4face_suspended_modifiers" not in head
@@ -348,7 +350,7 @@ def test_cloning_reads_the_rig(rigged):
         for name in ("fap3_open_jaw@1024", "fap23_yaw_l_eyeball@50000"):
             cloned = mesh_data.shape_key_coords(blocks[name]) - mesh_data.shape_key_coords(
                 target.data.shape_keys.reference_key)
-            rig = fp_logic.to_blender_axes(rig_mesh[name] - rig_mesh["neutral"])
+            rig = feature_points.to_blender_axes(rig_mesh[name] - rig_mesh["neutral"])
             vertex = chin if name.startswith("fap3") else fp_vertices["3.1"]
             assert np.allclose(cloned[vertex], 2 * rig[vertex], atol=2e-3), name
     finally:

@@ -17,7 +17,10 @@ import addon_utils  # noqa: E402
 import mpeg4face  # noqa: E402
 from mathutils import Vector  # noqa: E402
 
-from mpeg4face_blender import fp_logic, operators_rig, poses, rig_logic, shape_keys  # noqa: E402
+from mpeg4face_blender.logic import feature_points, shape_keys  # noqa: E402
+from mpeg4face_blender.logic import rig as rig_logic  # noqa: E402
+from mpeg4face_blender.scene import poses  # noqa: E402
+from mpeg4face_blender.ui.operators import rig as operators_rig  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 AMPLITUDE = 256
@@ -46,13 +49,13 @@ def makehuman_skin():
     skin = model.meshes[0]
     offset = model.transforms[0].translation
     data = bpy.data.meshes.new("makehuman")
-    data.from_pydata(fp_logic.to_blender_axes(skin.coord + offset).tolist(), [],
+    data.from_pydata(feature_points.to_blender_axes(skin.coord + offset).tolist(), [],
                      skin.triangles().tolist())
     head = bpy.data.objects.new("makehuman", data)
     bpy.context.scene.collection.objects.link(head)
     fp_vertices = {fp: b.vertex for fp, b in model.feature_points.items() if b.mesh == 0}
     for fp, vertex in fp_vertices.items():
-        head.vertex_groups.new(name=fp_logic.group_name(fp)).add([vertex], 1.0, "REPLACE")
+        head.vertex_groups.new(name=feature_points.group_name(fp)).add([vertex], 1.0, "REPLACE")
     return head, fp_vertices
 
 
@@ -108,7 +111,7 @@ def rigify_head():
 def landing(head, fp_vertices, frame, neutral, fap):
     """Where FAP's feature point is at the frame: its motion along the FAP's direction."""
     bpy.context.scene.frame_set(frame)
-    coords = fp_logic.to_standard_axes(
+    coords = feature_points.to_standard_axes(
         poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get()))
     vertex = fp_vertices[mpeg4face.fap(fap).feature_point]
     return float((coords[vertex] - neutral[vertex]) @ rig_logic.fap_direction(fap))
@@ -118,17 +121,18 @@ def test_rigify_face_rig_posed_to_faps(rigify_head, tmp_path, capsys):
     head, rig, fp_vertices = rigify_head
     assert head.modifiers["Armature"].object == rig
     assert bpy.ops.mpeg4face.pose_faps_bones(amplitude=AMPLITUDE) == {"FINISHED"}
-    report = operators_rig.reports[head.name]
+    report = operators_rig.pose_reports[head.name]
     with capsys.disabled():
         print("\n" + "\n".join(report.lines()))
     scene = bpy.context.scene
     markers = {m.name: m.frame for m in scene.timeline_markers}
     neutral_frame = markers[poses.NEUTRAL_MARKER]
     scene.frame_set(neutral_frame)
-    neutral = fp_logic.to_standard_axes(
+    neutral = feature_points.to_standard_axes(
         poses.evaluated_coords(head, bpy.context.evaluated_depsgraph_get()))
     faces = [i for p in head.data.polygons for i in (*p.vertices, -1)]
-    fapu = mpeg4face.measure_fapu(fp_logic.face_model(neutral, faces, fp_vertices))
+    fapu = mpeg4face.measure_fapu(
+        feature_points.face_model_from_arrays(neutral, faces, fp_vertices))
     assert 0.1 < fapu.mns0.value < 0.6  # the head's mouth-nose separation (model units)
     missed = dict(report.missed)
     off = {}

@@ -18,8 +18,11 @@ import mpeg4face  # noqa: E402
 from conftest import DATA  # noqa: E402
 from mathutils import Matrix  # noqa: E402
 
-from mpeg4face_blender import (  # noqa: E402
-    compat, fp_logic, mesh_data, operators_faces, operators_stream, panels_stream, poses)
+from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene import (  # noqa: E402
+    compat, live_preview, mesh_data, poses, stream_data)
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
+from mpeg4face_blender.ui.panels import stream as panels_stream  # noqa: E402
 
 JOY = DATA / "xface-fap" / "joy.fap"
 KEY = "fap3_open_jaw@512"
@@ -53,7 +56,7 @@ def head(candide_head):
     scene = bpy.context.scene
     scene.render.fps, scene.render.fps_base = 30, 1.0
     yield obj
-    operators_stream.stop_live(obj)
+    live_preview.stop_live(obj)
     if scene.sequence_editor:
         scene.sequence_editor_clear()
     for action in list(bpy.data.actions):
@@ -191,8 +194,8 @@ def test_live_preview_is_the_fat_result_and_stops(head, joy):
     _, values = joy
     basis = coords(head.data.shape_keys.key_blocks["Basis"])
     assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE") == {"FINISHED"}
-    assert operators_stream.is_live(head)
-    assert operators_stream._on_frame_change in bpy.app.handlers.frame_change_pre
+    assert live_preview.is_live(head)
+    assert live_preview._on_frame_change in bpy.app.handlers.frame_change_pre
     assert not head.data.shape_keys.animation_data  # nothing baked
     for index in (30, 60):
         bpy.context.scene.frame_set(1 + index)
@@ -200,13 +203,13 @@ def test_live_preview_is_the_fat_result_and_stops(head, joy):
         expected[JAW] += values[index] / 512 * DROP
         np.testing.assert_allclose(evaluated(head), expected, atol=1e-5)
     assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
-    assert not operators_stream.is_live(head)
-    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
-    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
+    assert not live_preview.is_live(head)
+    assert live_preview.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert live_preview._on_frame_change not in bpy.app.handlers.frame_change_pre
     np.testing.assert_allclose(evaluated(head), basis, atol=1e-6)
     # started again from the panel's button, from the remembered stream
     assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
-    assert operators_stream.is_live(head)
+    assert live_preview.is_live(head)
 
 
 def test_live_preview_builds_the_tables_of_the_streams_faps_only(head, monkeypatch):
@@ -228,7 +231,7 @@ def test_live_preview_builds_the_tables_of_the_streams_faps_only(head, monkeypat
 
     monkeypatch.setattr(mpeg4face, "generate_face", spy)
     basis = coords(head.data.shape_keys.key_blocks["Basis"])
-    operators_stream.start_live(head, bpy.context.scene, operators_stream.grammar_keys(head),
+    live_preview.start_live(head, bpy.context.scene, stream_data.grammar_keys(head),
                                 stream, 1)
     assert built == [[3]]
     for index, value in enumerate(sent):
@@ -263,10 +266,10 @@ def test_the_mesh_read_in_object_mode_is_the_bmesh_one(head):
 
 def test_live_handler_forgets_a_deleted_object(head):
     bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
-    head.shape_key_remove(head.data.shape_keys.key_blocks[operators_stream.LIVE_KEY])
+    head.shape_key_remove(head.data.shape_keys.key_blocks[live_preview.LIVE_KEY])
     bpy.context.scene.frame_set(3)  # must not raise
-    assert not operators_stream._live
-    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
+    assert not live_preview._live
+    assert live_preview._on_frame_change not in bpy.app.handlers.frame_change_pre
 
 
 EYE_POSE, EYE_TURN = "fap23_yaw_l_eyeball@30000", 0.4  # radians about Blender's Z
@@ -293,7 +296,7 @@ def eye(head):
             posed.keyframe_insert("rotation_euler", frame=frame)
     scene.frame_set(1)
     yield obj
-    operators_stream.stop_live(head)
+    live_preview.stop_live(head)
     bpy.data.objects.remove(obj)
     bpy.data.meshes.remove(mesh)
     scene.timeline_markers.clear()
@@ -313,7 +316,7 @@ def write_stream(path, faps):
 
 
 def live_coords(obj):
-    return coords(obj.data.shape_keys.key_blocks[operators_stream.LIVE_KEY])
+    return coords(obj.data.shape_keys.key_blocks[live_preview.LIVE_KEY])
 
 
 def moved(matrix, points):
@@ -329,7 +332,7 @@ def test_live_preview_of_a_part_and_its_pose(head, eye, tmp_path):
     faps = {3: [0, 256, 400], 23: [0, 20000, -12000]}
     path = write_stream(tmp_path / "eye.fap", faps)
     scene = bpy.context.scene
-    model, _ = poses.face_model(head, operators_faces.key_names, scene)
+    model, _ = poses.read_posed_face_model(head, operators_faces.key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
     stream = mpeg4face.read_fap_stream(path)
     eye_basis = coords(eye.data)
@@ -338,22 +341,23 @@ def test_live_preview_of_a_part_and_its_pose(head, eye, tmp_path):
 
     assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="LIVE") == {
         "FINISHED"}
-    assert eye.data.shape_keys.key_blocks.keys() == [operators_stream.LIVE_BASIS,
-                                                     operators_stream.LIVE_KEY]
+    assert eye.data.shape_keys.key_blocks.keys() == [live_preview.LIVE_BASIS,
+                                                     live_preview.LIVE_KEY]
     assert head.show_only_shape_key and eye.show_only_shape_key
     for index in (1, 2):
         scene.frame_set(1 + index)
         turn = Matrix.Rotation(EYE_TURN * faps[23][index] / 30000, 4, "Z")
         np.testing.assert_allclose(live_coords(eye), moved(turn, eye_basis), atol=1e-6)
         core = evaluator.evaluate(stream, index)["coord"][0]
-        np.testing.assert_allclose(live_coords(head), fp_logic.to_blender_axes(core), atol=1e-6)
+        np.testing.assert_allclose(live_coords(head), feature_points.to_blender_axes(core),
+                                   atol=1e-6)
         assert [o.matrix_world for o in (head, eye)] == matrices
 
     assert bpy.ops.mpeg4face.live_preview(action="STOP") == {"FINISHED"}
     assert eye.data.shape_keys is None and not eye.show_only_shape_key
-    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert live_preview.LIVE_KEY not in head.data.shape_keys.key_blocks
     assert (head.show_only_shape_key, head.active_shape_key_index) == head_display
-    assert not operators_stream.is_live(head) and not operators_stream.is_live(eye)
+    assert not live_preview.is_live(head) and not live_preview.is_live(eye)
 
 
 def test_live_preview_turns_the_head_with_its_parts(head, eye, tmp_path):
@@ -379,7 +383,7 @@ def test_live_preview_refuses_parts_sharing_a_mesh(head, eye, tmp_path):
     try:
         with pytest.raises(RuntimeError, match="eye_l and eye_r share the mesh eye_l"):
             bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="LIVE")
-        assert not operators_stream.is_live(head) and eye.data.shape_keys is None
+        assert not live_preview.is_live(head) and eye.data.shape_keys is None
     finally:
         bpy.data.objects.remove(twin)
 
@@ -469,7 +473,7 @@ def test_live_needs_measurable_fapu(head):
         head.vertex_groups.remove(group)
     with pytest.raises(RuntimeError, match="Cannot build the face's tables.*MNS0"):
         bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
-    assert not operators_stream.is_live(head)
+    assert not live_preview.is_live(head)
 
 
 class Layout:
@@ -509,20 +513,20 @@ def test_panel_shows_the_stream_and_the_encoding(head, tmp_path):
 
 
 def test_registered_with_a_menu_entry():
-    from mpeg4face_blender import import_stream
+    from mpeg4face_blender.ui.operators import import_stream
 
     for name in ("MPEG4FACE_OT_import_fap_stream", "MPEG4FACE_OT_encode_fap_stream",
                  "MPEG4FACE_OT_speak_text", "MPEG4FACE_OT_live_preview",
                  "MPEG4FACE_PT_fap_stream"):
         assert hasattr(bpy.types, name), name
-    assert import_stream.menu_entry in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
+    assert import_stream.stream_import_menu in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
 
 
 def test_disabling_the_addon_stops_the_live_preview(head, addon_disabled_after):
     bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY), preview="LIVE")
     addon_disabled_after()
-    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
-    assert operators_stream.LIVE_KEY not in head.data.shape_keys.key_blocks
+    assert live_preview._on_frame_change not in bpy.app.handlers.frame_change_pre
+    assert live_preview.LIVE_KEY not in head.data.shape_keys.key_blocks
     assert not head.show_only_shape_key
 
 

@@ -9,7 +9,7 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 
 from conftest import DATA, make_candide_head  # noqa: E402
 
-from mpeg4face_blender import operators_stream  # noqa: E402
+from mpeg4face_blender.scene import live_preview  # noqa: E402
 
 JOY = DATA / "xface-fap" / "joy.fap"
 
@@ -46,7 +46,7 @@ def head():
     yield name
     obj = bpy.data.objects.get(name)
     if obj is not None:
-        operators_stream.stop_live(obj)
+        live_preview.stop_live(obj)
         mesh = obj.data
         bpy.data.objects.remove(obj)
         bpy.data.meshes.remove(mesh)
@@ -79,10 +79,10 @@ def test_undo_of_the_live_preview_ends_it(head):
     bpy.ops.ed.undo_push(message="mpeg4face test: the key")
     assert bpy.ops.mpeg4face.import_fap_stream(
         "EXEC_DEFAULT", True, filepath=str(JOY), preview="LIVE") == {"FINISHED"}
-    assert operators_stream.LIVE_KEY in key_names(head)
+    assert live_preview.LIVE_KEY in key_names(head)
     assert bpy.ops.ed.undo() == {"FINISHED"}
     assert key_names(head) == ["Basis", "fap3_open_jaw@512"]
     assert not bpy.data.objects[head].show_only_shape_key
     bpy.context.scene.frame_set(3)  # must not raise
-    assert not operators_stream._live
-    assert operators_stream._on_frame_change not in bpy.app.handlers.frame_change_pre
+    assert not live_preview._live
+    assert live_preview._on_frame_change not in bpy.app.handlers.frame_change_pre

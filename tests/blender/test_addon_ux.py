@@ -16,8 +16,11 @@ bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_bl
 import layout_check  # noqa: E402
 from test_addon_stream import JOY, head  # noqa: E402,F401 - fixture
 
-from mpeg4face_blender import (  # noqa: E402
-    import_stream, operators_faces, operators_stream, panels, properties, ui_text)
+from mpeg4face_blender.ui import properties  # noqa: E402
+from mpeg4face_blender.ui import text as ui_text  # noqa: E402
+from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
+from mpeg4face_blender.ui.operators import import_stream  # noqa: E402
+from mpeg4face_blender.ui.panels import feature_points as panels  # noqa: E402
 
 WIDTH = 229  # px, the sidebar's default width at UI scale 1
 
@@ -132,7 +135,7 @@ def test_absolute_threshold_for_a_face_without_fapu(head):
     with pytest.raises(RuntimeError, match="absolute threshold"):
         bpy.ops.mpeg4face.generate_tables()
     assert bpy.ops.mpeg4face.generate_tables(absolute_threshold=1e-4) == {"FINISHED"}
-    assert operators_faces.reports[head.name].lines()[0].startswith("1 FaceDefTables")
+    assert operators_faces.table_reports[head.name].lines()[0].startswith("1 FaceDefTables")
 
 
 def test_panels_keep_their_reading_of_the_mesh(head):
@@ -140,21 +143,21 @@ def test_panels_keep_their_reading_of_the_mesh(head):
     other = bpy.data.objects.new("empty", None)
     bpy.context.scene.collection.objects.link(other)
     bpy.context.view_layer.update()  # the fixture's changes of the head
-    first = panels.face_state(bpy.context)
-    assert panels.face_state(bpy.context) is first
+    first = panels.cached_face_state(bpy.context)
+    assert panels.cached_face_state(bpy.context) is first
     try:
         other.location.x = 3.0  # an update of another object
         bpy.context.view_layer.update()
         head.select_set(False)
         bpy.context.view_layer.update()
-        assert panels.face_state(bpy.context) is first
+        assert panels.cached_face_state(bpy.context) is first
         co = np.empty(len(head.data.vertices) * 3, dtype=np.float32)
         head.data.vertices.foreach_get("co", co)
         co[0] += 0.01
         head.data.vertices.foreach_set("co", co)
         head.data.update()
         bpy.context.view_layer.update()
-        assert panels.face_state(bpy.context) is not first
+        assert panels.cached_face_state(bpy.context) is not first
     finally:
         bpy.data.objects.remove(other)
         head.select_set(True)
@@ -164,7 +167,7 @@ def test_the_bake_reports_everything_in_a_popup(head, monkeypatch):
     """Every line of the bake's report reaches the user (the status bar shows only the
     last one): the summary and what could not be baked, in one popup."""
     shown = []
-    monkeypatch.setattr(operators_stream.ui_text, "popup",
+    monkeypatch.setattr(ui_text, "popup",
                         lambda context, title, lines, **_: shown.append((title, lines)))
     assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(JOY)) == {"FINISHED"}
     (title, lines), = shown

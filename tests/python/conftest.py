@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 TESTS_DIR = Path(__file__).resolve().parent.parent
-# The Blender add-on's bpy-free modules (mpeg4face_blender.fp_logic, .native).
+# The Blender add-on's bpy-free modules (mpeg4face_blender.logic, .native).
 sys.path.insert(0, str(TESTS_DIR.parent / "blender_addon"))
 
 

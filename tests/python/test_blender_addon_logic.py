@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import mpeg4face
-from mpeg4face_blender import fp_logic, native
+from mpeg4face_blender import native
+from mpeg4face_blender.logic import feature_points
 
 DOCS = Path(__file__).resolve().parent.parent.parent / "docs"
 
@@ -27,7 +28,7 @@ def candide(data_dir):
 
 
 def groups_of(fp_vertices):
-    return {fp_logic.group_name(fp): [(v, 1.0)] for fp, v in fp_vertices.items()}
+    return {feature_points.group_name(fp): [(v, 1.0)] for fp, v in fp_vertices.items()}
 
 
 def test_native_module_found_on_sys_path(tmp_path):
@@ -62,20 +63,20 @@ def test_native_module_built_for_another_python(tmp_path):
 
 
 def test_group_names():
-    assert fp_logic.group_name("2.1") == "FP_2.1"
-    assert fp_logic.feature_point_of_group("FP_9.15") == "9.15"
-    assert fp_logic.feature_point_of_group("Group") is None
+    assert feature_points.group_name("2.1") == "FP_2.1"
+    assert feature_points.feature_point_of_group("FP_9.15") == "9.15"
+    assert feature_points.feature_point_of_group("Group") is None
 
 
 def test_fapu_points_come_from_the_core():
-    assert fp_logic.fapu_feature_points() == {
+    assert feature_points.fapu_feature_points() == {
         "ES0": ("3.5", "3.6"),
         "IRISD0": ("3.1", "3.3", "3.2", "3.4"),
         "ENS0": ("3.5", "3.6", "9.15"),
         "MNS0": ("9.15", "2.2"),
         "MW0": ("8.3", "8.4"),
     }
-    assert fp_logic.fapu_points() == {"3.1", "3.2", "3.3", "3.4", "3.5", "3.6", "9.15", "2.2",
+    assert feature_points.fapu_points() == {"3.1", "3.2", "3.3", "3.4", "3.5", "3.6", "9.15", "2.2",
                                       "8.3", "8.4"}
 
 
@@ -85,11 +86,11 @@ def test_cloning_points_match_docs_clone_md():
     table = re.findall(r"^\| [a-z ,]+ \| ([\d., ]+) \|$", section, re.MULTILINE)
     documented = {p.strip() for row in table for p in row.split(",")}
     assert len(documented) == 43
-    assert fp_logic.cloning_points() == documented
+    assert feature_points.cloning_points() == documented
 
 
 def test_mirror_partners():
-    partners = fp_logic.mirror_partners()
+    partners = feature_points.mirror_partners()
     for left, right in [("3.5", "3.6"), ("2.4", "2.5"), ("3.7", "3.12"), ("3.11", "3.8"),
                         ("2.6", "2.7"), ("2.8", "2.9"), ("8.5", "8.6"), ("8.9", "8.10"),
                         ("4.1", "4.2"), ("11.3", "11.2"), ("10.9", "10.10"), ("9.1", "9.2")]:
@@ -107,7 +108,7 @@ def test_mirror_partners():
 
 def test_rows_flags_and_missing(candide):
     _, _, _, fp_vertices = candide
-    rows = fp_logic.feature_point_rows(fp_vertices)
+    rows = feature_points.feature_point_rows(fp_vertices)
     assert len(rows) == len(mpeg4face.feature_points()) == 85  # 84 and Pandzic's 7.2
     by_id = {r.id: r for r in rows}
     assert by_id["3.5"].needed_for_fapu and not by_id["3.5"].needed_for_cloning
@@ -115,12 +116,12 @@ def test_rows_flags_and_missing(candide):
     assert by_id["9.15"].is_set and by_id["9.15"].vertex == fp_vertices["9.15"]
     assert by_id["9.15"].needed_for_fapu and by_id["9.15"].needed_for_cloning
     assert by_id["2.1"].description == "Bottom of the chin"
-    assert fp_logic.missing(rows, fp_logic.fapu_points()) == ["3.5", "3.6"]
-    assert fp_logic.missing(rows, fp_logic.cloning_points()) == []
+    assert feature_points.missing(rows, feature_points.fapu_points()) == ["3.5", "3.6"]
+    assert feature_points.missing(rows, feature_points.cloning_points()) == []
 
 
 def test_groups_to_feature_points():
-    vertices, warnings = fp_logic.fp_vertices_from_groups({
+    vertices, warnings = feature_points.fp_vertices_from_groups({
         "FP_2.1": [(7, 1.0)],
         "FP_3.5": [(1, 0.5), (4, 1.0)],
         "FP_3.6": [],
@@ -133,14 +134,14 @@ def test_groups_to_feature_points():
 
 
 def test_axes():
-    np.testing.assert_array_equal(fp_logic.to_standard_axes([[1, 2, 3]]), [[1, 3, -2]])
+    np.testing.assert_array_equal(feature_points.to_standard_axes([[1, 2, 3]]), [[1, 3, -2]])
 
 
 def test_face_state_equals_measure_fapu(candide):
     model, coords, coord_index, fp_vertices = candide
-    state = fp_logic.face_state(coords, coord_index, groups_of(fp_vertices))
+    state = feature_points.face_state_from_arrays(coords, coord_index, groups_of(fp_vertices))
     expected = mpeg4face.measure_fapu(model)
-    assert [r.name for r in state.fapu] == list(fp_logic.FAPU_DISTANCES)
+    assert [r.name for r in state.fapu] == list(feature_points.FAPU_DISTANCES)
     for reading in state.fapu:
         distance = getattr(expected, reading.name.lower())
         assert reading.measured and reading.value == pytest.approx(distance.value)
@@ -158,7 +159,7 @@ def test_face_state_equals_measure_fapu(candide):
 def test_unmeasured_fapu_says_what_it_needs(candide):
     _, coords, coord_index, fp_vertices = candide
     without = {fp: v for fp, v in fp_vertices.items() if fp not in ("9.15", "8.3")}
-    state = fp_logic.face_state(coords, coord_index, groups_of(without))
+    state = feature_points.face_state_from_arrays(coords, coord_index, groups_of(without))
     by_name = {r.name: r for r in state.fapu}
     assert by_name["MNS0"].lines() == ["MNS0 unmeasured: needs 9.15 and 2.2"]
     assert not by_name["ENS0"].measured
@@ -169,9 +170,9 @@ def test_unmeasured_fapu_says_what_it_needs(candide):
 def test_mirror_matches(candide):
     _, coords, _, fp_vertices = candide
     one_side = {fp: v for fp, v in fp_vertices.items() if coords[v, 0] > 0}
-    tolerance = fp_logic.mirror_tolerance(coords, 0.01)
+    tolerance = feature_points.mirror_tolerance(coords, 0.01)
     assert tolerance == pytest.approx(0.01 * np.linalg.norm(np.ptp(coords, axis=0)))
-    matches = fp_logic.mirror_matches(coords, one_side, "MISSING", tolerance)
+    matches = feature_points.mirror_matches(coords, one_side, "MISSING", tolerance)
     # CANDIDE-3 is symmetric: every partner lands where the CSV puts it; its closed mouth
     # has two vertices there for each inner-lip point.
     assert matches and all(m.accepted and m.distance < 1e-9 for m in matches)
@@ -182,12 +183,13 @@ def test_mirror_matches(candide):
     tied = next(m for m in matches if m.source == "2.8")
     assert tied.ties == 2 and tied.message(tolerance).endswith(
         "(2 vertices are that near: check which one is meant)")
-    assert {m.source for m in matches} == {fp for fp in one_side if fp in fp_logic.mirror_partners()}
+    partners = feature_points.mirror_partners()
+    assert {m.source for m in matches} == {fp for fp in one_side if fp in partners}
     assert matches[0].message(tolerance).startswith(f"{matches[0].partner} = vertex ")
     # Only missing partners: none on the full set.
-    assert fp_logic.mirror_matches(coords, fp_vertices, "MISSING", tolerance) == []
-    left = fp_logic.mirror_matches(coords, fp_vertices, "LEFT", tolerance)
-    right = fp_logic.mirror_matches(coords, fp_vertices, "RIGHT", tolerance)
+    assert feature_points.mirror_matches(coords, fp_vertices, "MISSING", tolerance) == []
+    left = feature_points.mirror_matches(coords, fp_vertices, "LEFT", tolerance)
+    right = feature_points.mirror_matches(coords, fp_vertices, "RIGHT", tolerance)
     assert {m.source for m in left} == {m.partner for m in right}
 
 
@@ -196,8 +198,8 @@ def test_mirror_refuses_far_vertices(candide):
     moved = coords.copy()
     v = fp_vertices["3.12"]
     moved[v] += (0.0, 0.1, 0.0)  # the right eye's outer corner no longer mirrors 3.7
-    far = fp_logic.mirror_matches(moved, {"3.7": fp_vertices["3.7"]}, "MISSING", 0.01)
+    far = feature_points.mirror_matches(moved, {"3.7": fp_vertices["3.7"]}, "MISSING", 0.01)
     assert len(far) == 1 and not far[0].accepted and far[0].distance > 0.01
     assert far[0].message(0.01).startswith("3.12 skipped: the vertex nearest to the mirror image")
     with pytest.raises(ValueError, match="mirror source"):
-        fp_logic.mirror_matches(coords, fp_vertices, "UP", 0.01)
+        feature_points.mirror_matches(coords, fp_vertices, "UP", 0.01)

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import mpeg4face
-from mpeg4face_blender import arkit_logic, fp_logic, shape_keys
+from mpeg4face_blender.logic import arkit as arkit_logic
+from mpeg4face_blender.logic import feature_points, shape_keys
 
 # The ARKit shapes of the Blender test (tests/blender/conftest.py is bpy-free at import).
 _spec = importlib.util.spec_from_file_location(
@@ -30,7 +31,8 @@ def candide(data_dir):
     mesh = model.meshes[0]
     shapes = blender_conftest.candide_arkit_shapes(mesh.coord, fp_vertices)
     shapes["Smirk"] = np.zeros_like(mesh.coord)
-    return fp_logic.face_model(mesh.coord, mesh.coord_index, fp_vertices, shapes), fp_vertices
+    model = feature_points.face_model_from_arrays(mesh.coord, mesh.coord_index, fp_vertices, shapes)
+    return model, fp_vertices
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from mpeg4face_blender import rig_logic
+from mpeg4face_blender.logic import rig as rig_logic
 
 
 def test_animated_keys_come_from_driver_and_action_paths():

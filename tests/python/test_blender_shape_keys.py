@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import mpeg4face
-from mpeg4face_blender import fp_logic, shape_keys
+from mpeg4face_blender.logic import feature_points, shape_keys
 
 
 @pytest.fixture(scope="module")
@@ -20,7 +20,7 @@ def candide(data_dir):
 
 def test_axes_round_trip():
     c = np.arange(12.0).reshape(4, 3)
-    assert np.array_equal(fp_logic.to_blender_axes(fp_logic.to_standard_axes(c)), c)
+    assert np.array_equal(feature_points.to_blender_axes(feature_points.to_standard_axes(c)), c)
 
 
 def test_key_names_follow_the_grammar():
@@ -108,7 +108,7 @@ def test_mirror_displacements():
 
 def test_mirror_candide_is_symmetric(candide):
     coords, _, _ = candide
-    partners = shape_keys.mirror_vertices(coords, fp_logic.mirror_tolerance(coords, 0.001))
+    partners = shape_keys.mirror_vertices(coords, feature_points.mirror_tolerance(coords, 0.001))
     assert (partners >= 0).all()
     # Coinciding vertices (the closed lips) may swap, so compare places, not indices.
     assert np.allclose(coords[partners], coords * (-1.0, 1.0, 1.0), atol=1e-3)
@@ -126,12 +126,12 @@ def test_mirror_plane_follows_the_feature_points(candide):
     assert plane.pairs >= 20
     assert np.allclose(plane.normal, turn @ (1, 0, 0), atol=1e-3)
     assert abs((np.array([0.3, -0.1, 0.2]) - plane.point) @ plane.normal) < 1e-3
-    partners = shape_keys.mirror_vertices(moved, fp_logic.mirror_tolerance(moved, 0.001), plane)
+    tolerance = feature_points.mirror_tolerance(moved, 0.001)
+    partners = shape_keys.mirror_vertices(moved, tolerance, plane)
     assert (partners >= 0).all()
     assert np.allclose(moved[partners], plane.reflect_points(moved), atol=2e-3)
     # Across X = 0 the moved head has almost no mirror vertices.
-    assert (shape_keys.mirror_vertices(moved, fp_logic.mirror_tolerance(moved, 0.001)) < 0).sum() \
-        > len(moved) // 2
+    assert (shape_keys.mirror_vertices(moved, tolerance) < 0).sum() > len(moved) // 2
     # A displacement to the left comes back to the right, in the turned frame.
     d = np.zeros_like(moved)
     d[fp_vertices["8.3"]] = turn @ (0.05, 0, 0)
@@ -145,7 +145,7 @@ def test_face_model_and_report(candide):
     coords, index, fp_vertices = candide
     d = np.zeros_like(coords)
     d[fp_vertices["2.1"]] = (0, -0.1, 0)
-    model = fp_logic.face_model(coords, index, fp_vertices,
+    model = feature_points.face_model_from_arrays(coords, index, fp_vertices,
                                 {"fap3_open_jaw@512": d, "jawOpen": d})
     assert [t.name for t in model.meshes[0].morph_targets] == ["fap3_open_jaw@512", "jawOpen"]
     report = shape_keys.tables_report(mpeg4face.generate_face(model))

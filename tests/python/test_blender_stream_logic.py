@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import mpeg4face
-from mpeg4face_blender import stream_logic as sl
+from mpeg4face_blender.logic import stream as sl
 
 
 def test_face_keys_sorts_ours_and_lists_malformed():

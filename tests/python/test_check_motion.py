@@ -1,13 +1,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """mpeg4face.check_motion on a small head (a 3 x 3 sheet with a key that stretches an edge
 3 times and one that stays within the limits), its limits, a stream, and the Blender
-add-on's bpy-free view of the result (check_logic)."""
+add-on's bpy-free view of the result (mpeg4face_blender.logic.check)."""
 
 import numpy as np
 import pytest
 
 import mpeg4face
-from mpeg4face_blender import check_logic
+from mpeg4face_blender.logic import check as check_logic
 
 
 def sheet_head() -> mpeg4face.FaceModel:

@@ -334,8 +334,8 @@ def test_the_blend_holds_the_head_in_the_add_ons_form(built, tmp_path):
         "import blender_session\n"
         "blender_session.start()\n"
         "import bpy\n"
-        "from mpeg4face_blender import panels\n"
-        "state = panels.face_state(bpy.context)\n"
+        "from mpeg4face_blender.ui.panels import feature_points as panels\n"
+        "state = panels.cached_face_state(bpy.context)\n"
         "print('FAPU', [r.name for r in state.fapu if not r.measured],"
         " sorted(state.part_points.items()))\n")
     result = subprocess.run(["blender", "-b", str(blend), "--python-exit-code", "1",

@@ -71,7 +71,8 @@ def show_only_our_sidebar_tab():
 def open_every_panel():
     """The sub-panels (closed by default) registered open, before they are first drawn, so
     that the screenshots show them."""
-    from mpeg4face_blender import panels, panels_faces
+    from mpeg4face_blender.ui.panels import faces as panels_faces
+    from mpeg4face_blender.ui.panels import feature_points as panels
 
     for panel in (panels.MPEG4FACE_PT_fapu, panels.MPEG4FACE_PT_location_warnings,
                   panels_faces.MPEG4FACE_PT_face_tables, panels_faces.MPEG4FACE_PT_cloning):
@@ -94,7 +95,7 @@ def cut_in_the_sidebar():
     """layout_check on every panel of the tab in the real sidebar (its width, the UI's
     scale), the feature point list's rows too: {panel: [cut texts]} and the width."""
     import layout_check
-    from mpeg4face_blender import panels
+    from mpeg4face_blender.ui.panels import feature_points as panels
 
     window, area, region = view3d()
     sidebar = next(r for r in area.regions if r.type == "UI")
@@ -208,7 +209,7 @@ def show_shape_key_panels(obj):
     """The second page: the feature point panels go (in this throw-away session), leaving
     FAP Shape Keys, FaceDefTables, Cloning and FAP Stream; a second head, selected with the
     first one active, is the cloning target the Cloning panel names."""
-    from mpeg4face_blender import panels
+    from mpeg4face_blender.ui.panels import feature_points as panels
 
     for panel in (panels.MPEG4FACE_PT_location_warnings, panels.MPEG4FACE_PT_fapu,
                   panels.MPEG4FACE_PT_feature_points):
@@ -261,7 +262,7 @@ def steps():
     yield
     _, area, _ = view3d()
     sidebar = next(r for r in area.regions if r.type == "UI")
-    from mpeg4face_blender import panels
+    from mpeg4face_blender.ui.panels import feature_points as panels
 
     drawn = []
     draw = panels.MPEG4FACE_PT_feature_points.draw
@@ -323,7 +324,7 @@ def steps():
     sidebar_picture(OUT / "blender_sidebar_keys.png", "blender_sidebar_keys_229.png")
     cut_keys, _ = cut_in_the_sidebar()
     cut.update(cut_keys)
-    from mpeg4face_blender import export
+    from mpeg4face_blender.ui.operators import export
 
     export_panels = yield from file_browser_screenshot(
         bpy.ops.mpeg4face.export_vrml, "blender_export.png",

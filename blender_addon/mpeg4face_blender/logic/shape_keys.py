@@ -4,8 +4,8 @@ docs/fat.md, slider ranges, suggestions for keys named otherwise, left/right par
 mirroring displacements across X = 0, and the report of "Generate
 FaceDefTables" and cloning.
 
-Displacements handed in for models are in the standard's axes (fp_logic.to_standard_axes);
-fp_logic.to_blender_axes turns the core's answers back into Blender's.
+Displacements handed in for models are in the standard's axes (feature_points.to_standard_axes);
+feature_points.to_blender_axes turns the core's answers back into Blender's.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import numpy.typing as npt
 
 import mpeg4face
 
-from . import fp_logic
+from . import feature_points
 
 Array = npt.NDArray[np.float64]
 
@@ -262,13 +262,13 @@ X_PLANE = MirrorPlane(np.zeros(3), np.array([1.0, 0.0, 0.0]), 0)
 
 
 def symmetry_plane(coords: npt.ArrayLike, fp_vertices: Mapping[str, int]) -> MirrorPlane:
-    """The plane the set left/right feature point pairs (fp_logic.mirror_partners) are
+    """The plane the set left/right feature point pairs (feature_points.mirror_partners) are
     mirror images across: through the mean of their midpoints, normal along the mean of their
     left-to-right directions (each turned towards the widest pair's). X = 0 when no pair with
     two distinct points is set, so a head modelled about X = 0 mirrors as before."""
     c = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
     pairs = [(c[fp_vertices[a]], c[fp_vertices[b]])
-             for a, b in fp_logic.mirror_partners().items()
+             for a, b in feature_points.mirror_partners().items()
              if a < b and a in fp_vertices and b in fp_vertices]
     pairs = [(p, q) for p, q in pairs if np.linalg.norm(p - q) > 1e-9]
     if not pairs:
@@ -357,4 +357,4 @@ def tables_report(generated: Mapping[str, object], group_warnings: Sequence[str]
 
 def cloned_shapes(copies: Sequence[Mapping[str, object]]) -> dict[str, Array]:
     """clone_face's copies as key name -> displacement in Blender's axes (one mesh)."""
-    return {c["name"]: fp_logic.to_blender_axes(c["displacements"][0]) for c in copies}
+    return {c["name"]: feature_points.to_blender_axes(c["displacements"][0]) for c in copies}

@@ -5,7 +5,9 @@ X = 0. Each one checks its input and reports problems in the UI instead of raisi
 import bpy
 from bpy.props import EnumProperty, FloatProperty
 
-from . import fp_logic, mesh_data, properties
+from ...logic import feature_points
+from ...scene import mesh_data
+from .. import properties
 
 
 def active_mesh(op: bpy.types.Operator, context: bpy.types.Context) -> bpy.types.Object | None:
@@ -90,12 +92,12 @@ class MPEG4FACE_OT_mirror_feature_points(bpy.types.Operator):
             return {"CANCELLED"}
         with mesh_data.face_bmesh(obj, write=True) as bm:
             coords = mesh_data.standard_coords(bm)
-            fp_vertices, _ = fp_logic.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
+            fp_vertices, _ = feature_points.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
             if not fp_vertices:
                 self.report({"ERROR"}, f"{obj.name} has no feature points (FP_ vertex groups)")
                 return {"CANCELLED"}
-            tolerance = fp_logic.mirror_tolerance(coords, self.tolerance)
-            matches = fp_logic.mirror_matches(coords, fp_vertices, self.source, tolerance)
+            tolerance = feature_points.mirror_tolerance(coords, self.tolerance)
+            matches = feature_points.mirror_matches(coords, fp_vertices, self.source, tolerance)
             for match in matches:
                 if match.accepted:
                     mesh_data.set_feature_point(obj, bm, match.partner, match.vertex)

@@ -9,7 +9,14 @@ from bpy_extras.io_utils import ImportHelper
 
 import mpeg4face
 
-from . import arkit_logic, mesh_data, operators_faces, operators_stream, shape_keys, stream_logic
+from ...logic import arkit as arkit_logic
+from ...logic import shape_keys
+from ...logic import stream as stream_logic
+from ...scene import live_preview, mesh_data, stream_data
+from . import faces as operators_faces
+from . import live as operators_live
+from . import stream as operators_stream
+from .bake import bake_stream
 
 
 class _StreamImport(ImportHelper):
@@ -67,20 +74,18 @@ class _StreamImport(ImportHelper):
             return {"CANCELLED"}
         rate = scene.render.fps, scene.render.fps_base
         if self.frame_rate == "STREAM":
-            operators_stream.set_scene_rate(scene, stream.frame_rate)
-        operators_stream.stop_live(obj)
+            stream_data.set_scene_rate(scene, stream.frame_rate)
+        live_preview.stop_live(obj)
         if self.preview == "LIVE":
-            result = operators_stream.run_live(self, context, obj, keys, stream, self.start_frame)
+            result = operators_live.run_live(self, context, obj, keys, stream, self.start_frame)
         else:
-            operators_stream.bake_stream(self, context, obj, keys, stream, self.start_frame,
-                                         self.resample)
+            bake_stream(self, context, obj, keys, stream, self.start_frame, self.resample)
             result = {"FINISHED"}
         if result != {"FINISHED"}:
             scene.render.fps, scene.render.fps_base = rate
             return result
-        frames = stream_logic.scene_frame_count(stream.duration,
-                                                operators_stream.scene_rate(scene))
-        operators_stream.remember_stream(obj, path, fit_path, self.start_frame, frames)
+        frames = stream_logic.scene_frame_count(stream.duration, stream_data.scene_rate(scene))
+        stream_data.remember_stream(obj, path, fit_path, self.start_frame, frames)
         return result
 
 
@@ -157,7 +162,7 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
         arkit = arkit_logic.arkit_key_names(names)
         if arkit:
             grammar = [n for n in names if shape_keys.is_grammar_name(n)]
-            return mesh_data.face_model(obj, arkit + grammar)[0]
+            return mesh_data.read_face_model(obj, arkit + grammar)[0]
         if not self.face_path:
             raise ValueError(
                 f"{obj.name} has no ARKit shape keys (eyeBlinkLeft, jawOpen, ...): give an "
@@ -167,7 +172,7 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         obj = context.active_object
-        if obj is not None and obj.type == "MESH" and not operators_stream.grammar_keys(
+        if obj is not None and obj.type == "MESH" and not stream_data.grammar_keys(
                 obj).keys and arkit_logic.arkit_key_names(operators_faces.key_names(obj)):
             self.report({"ERROR"}, f"{obj.name} has ARKit shape keys but no FAP keys to show "
                         "the stream with: run FAP Keys from ARKit Keys first")
@@ -177,12 +182,12 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
             return {"CANCELLED"}
         obj, keys = found
         scene = context.scene
-        fps = self.fps if self.frame_rate == "STREAM" else operators_stream.scene_rate(scene)
+        fps = self.fps if self.frame_rate == "STREAM" else stream_data.scene_rate(scene)
         # Everything that can fail comes before any change of the scene.
         try:
             capture = mpeg4face.read_livelink_csv(bpy.path.abspath(self.filepath))
             stream = mpeg4face.arkit_capture_to_faps(capture, self.arkit_face(obj), fps)
-            folder = operators_stream.output_folder(self.folder, "mpeg4face-captures")
+            folder = stream_data.output_folder(self.folder, "mpeg4face-captures")
             folder.mkdir(parents=True, exist_ok=True)
             path = arkit_logic.capture_stream_path(folder, obj.name, self.filepath)
             mpeg4face.write_fap(stream, str(path))
@@ -196,7 +201,7 @@ class MPEG4FACE_OT_import_livelink_capture(_StreamImport, bpy.types.Operator):
         return self.show(context, obj, keys, stream, str(path))
 
 
-def menu_entry(menu: bpy.types.Menu, context: bpy.types.Context) -> None:
+def stream_import_menu(menu: bpy.types.Menu, context: bpy.types.Context) -> None:
     menu.layout.operator(MPEG4FACE_OT_import_fap_stream.bl_idname, text="FAP stream (.fap, .fba)")
     menu.layout.operator(MPEG4FACE_OT_import_livelink_capture.bl_idname,
                          text="Live Link Face capture (.csv)")
@@ -208,10 +213,10 @@ _classes = (MPEG4FACE_OT_import_fap_stream, MPEG4FACE_OT_import_livelink_capture
 def register() -> None:
     for cls in _classes:
         bpy.utils.register_class(cls)
-    bpy.types.TOPBAR_MT_file_import.append(menu_entry)
+    bpy.types.TOPBAR_MT_file_import.append(stream_import_menu)
 
 
 def unregister() -> None:
-    bpy.types.TOPBAR_MT_file_import.remove(menu_entry)
+    bpy.types.TOPBAR_MT_file_import.remove(stream_import_menu)
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)

@@ -5,7 +5,7 @@ change, drawn in a SpaceView3D handler with the material colours and a studio-li
 while the original objects show nothing in the viewport (an empty geometry-nodes
 modifier, off for rendering: they stay active and selectable). No mesh is written or tagged, so
 Blender re-evaluates nothing: the cost of a frame is the core's evaluation, its vertex
-normals (the core's vertex_normals) and two numpy products (live_logic).
+normals (the core's vertex_normals) and two numpy products (logic/live.py).
 
 Blender has no GPU context in background mode (-b): there the buffers are filled (the
 per-frame work is measurable and testable) and nothing is uploaded or drawn."""
@@ -18,7 +18,7 @@ import bpy
 import mpeg4face
 import numpy as np
 
-from . import live_logic
+from ..logic import live as live_logic
 
 # The modifier that hides a drawn object in the viewport, and its node group.
 HIDE_MODIFIER = HIDE_GROUP = "MPEG-4 live (drawn)"

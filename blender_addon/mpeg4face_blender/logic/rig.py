@@ -6,7 +6,7 @@ pose that moves the skin but not its FAP's feature point), and the FAP poses of 
 point lands at the FAP's amplitude).
 
 A deformed copy is the evaluated mesh at a grammar marker minus the evaluated mesh at the
-`neutral` marker (poses.face_model); the displacements handed in here are in any axes as
+`neutral` marker (poses.read_posed_face_model); the displacements handed in here are in any axes as
 long as they agree."""
 
 from __future__ import annotations

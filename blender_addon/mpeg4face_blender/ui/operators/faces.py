@@ -18,17 +18,19 @@ from bpy.props import BoolProperty, CollectionProperty, EnumProperty, FloatPrope
 
 import mpeg4face
 
-from . import fp_logic, mesh_data, poses, shape_keys, ui_text
-from .operators import active_mesh
+from ...logic import feature_points, shape_keys
+from ...scene import mesh_data, poses
+from .. import text as ui_text
+from .feature_points import active_mesh
 
 # The last "Generate FaceDefTables" (or export) report per object name, for the panel;
 # forgotten when another file is loaded.
-reports: dict[str, shape_keys.TablesReport] = {}
+table_reports: dict[str, shape_keys.TablesReport] = {}
 
 
 @persistent
-def _forget_reports(*_args: object) -> None:
-    reports.clear()
+def _forget_table_reports(*_args: object) -> None:
+    table_reports.clear()
 
 _AMPLITUDE_LIMIT = 2**20  # far beyond any FAP's useful range; only keeps the field sane
 
@@ -100,11 +102,11 @@ def generate(obj: bpy.types.Object, threshold: float, scene: bpy.types.Scene,
              absolute_threshold: float | None = None
              ) -> tuple[mpeg4face.MpegFace, shape_keys.TablesReport]:
     """generate_face on the object's keys, its parts' keys and the scene's pose markers
-    with the rig's deformed copies there (poses.face_model; progress(fraction) follows the
-    markers): the face and its report (with the FP_ group warnings); raises mpeg4face.Error
-    with the core's reason (e.g. "MNS0 is not measured: needs 9.15 and 2.2") or the rig's
-    (poses.RigError)."""
-    model, group_warnings = poses.face_model(obj, key_names, scene, progress)
+    with the rig's deformed copies there (poses.read_posed_face_model; progress(fraction)
+    follows the markers): the face and its report (with the FP_ group warnings); raises
+    mpeg4face.Error with the core's reason (e.g. "MNS0 is not measured: needs 9.15 and
+    2.2") or the rig's (poses.RigError)."""
+    model, group_warnings = poses.read_posed_face_model(obj, key_names, scene, progress)
     generated = mpeg4face.generate_face(model, threshold, absolute_threshold)
     return generated["face"], shape_keys.tables_report(generated, group_warnings)
 
@@ -123,7 +125,7 @@ def editable_mesh(op: bpy.types.Operator, context: bpy.types.Context) -> bpy.typ
 
 
 def has_feature_points(op: bpy.types.Operator, obj: bpy.types.Object) -> bool:
-    if any(fp_logic.feature_point_of_group(g.name) for g in obj.vertex_groups):
+    if any(feature_points.feature_point_of_group(g.name) for g in obj.vertex_groups):
         return True
     op.report({"ERROR"}, f"{obj.name} has no feature points (FP_ vertex groups): "
               "assign them in the Feature Points panel")
@@ -357,10 +359,10 @@ class MPEG4FACE_OT_mirror_shape_key(bpy.types.Operator):
             return {"CANCELLED"}
         basis = basis_coords(obj)
         with mesh_data.face_bmesh(obj) as bm:
-            fp_vertices, _ = fp_logic.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
+            fp_vertices, _ = feature_points.fp_vertices_from_groups(mesh_data.fp_groups(obj, bm))
         plane = shape_keys.symmetry_plane(basis, fp_vertices)
         partners = shape_keys.mirror_vertices(
-            basis, fp_logic.mirror_tolerance(basis, self.tolerance), plane)
+            basis, feature_points.mirror_tolerance(basis, self.tolerance), plane)
         displacement = shape_keys.mirror_displacements(
             mesh_data.shape_key_coords(key) - basis, partners, plane)
         add_key(obj, mirrored.name, basis + displacement)
@@ -405,7 +407,7 @@ class MPEG4FACE_OT_generate_tables(bpy.types.Operator):
         except mpeg4face.Error as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
-        reports[obj.name] = report
+        table_reports[obj.name] = report
         lines = report.lines()
         for line in lines[1:]:
             self.report({"WARNING"} if line.startswith(("warning", "ignored")) else {"INFO"},
@@ -445,7 +447,7 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
             for i, target in enumerate(targets):
                 if not has_feature_points(self, target):  # reported; the others go on
                     continue
-                target_model, _ = mesh_data.face_model(target)
+                target_model, _ = mesh_data.read_face_model(target)
                 try:
                     cloned = mpeg4face.clone_face(
                         source_model, target_model,
@@ -484,12 +486,12 @@ _classes = (
 def register() -> None:
     for cls in _classes:
         bpy.utils.register_class(cls)
-    bpy.app.handlers.load_post.append(_forget_reports)
+    bpy.app.handlers.load_post.append(_forget_table_reports)
 
 
 def unregister() -> None:
-    if _forget_reports in bpy.app.handlers.load_post:
-        bpy.app.handlers.load_post.remove(_forget_reports)
-    reports.clear()
+    if _forget_table_reports in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_forget_table_reports)
+    table_reports.clear()
     for cls in reversed(_classes):
         bpy.utils.unregister_class(cls)

@@ -13,8 +13,11 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty
 
 import mpeg4face
 
-from . import check_logic, mesh_data, operators_stream, ui_text
-from .panels import _Sidebar
+from ...logic import check as check_logic
+from ...scene import mesh_data
+from .. import text as ui_text
+from ..panels.feature_points import _Sidebar
+from . import stream as operators_stream
 
 results: dict[str, dict[str, Any]] = {}  # object name -> check_motion's result
 
@@ -46,7 +49,7 @@ class MPEG4FACE_OT_check_motion(bpy.types.Operator):
                 return {"CANCELLED"}
             stream.name = Path(bpy.path.abspath(state.filepath)).name
             streams.append(stream)
-        model, warnings = mesh_data.face_model(obj, [k.name for k in keys.keys])
+        model, warnings = mesh_data.read_face_model(obj, [k.name for k in keys.keys])
         for warning in warnings:
             self.report({"WARNING"}, warning)
         wm = context.window_manager

@@ -6,10 +6,13 @@ from pathlib import Path
 
 import bpy
 
-from . import operators_stream, panels, stream_logic, ui_text
+from ...logic import stream as stream_logic
+from ...scene import live_preview, stream_data
+from .. import text as ui_text
+from .feature_points import _Sidebar
 
 
-class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
+class MPEG4FACE_PT_fap_stream(_Sidebar, bpy.types.Panel):
     bl_label = "FAP Stream"
 
     def draw(self, context: bpy.types.Context) -> None:
@@ -18,7 +21,7 @@ class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
         if obj is None or obj.type != "MESH":
             ui_text.label(layout, context, "Make the head mesh the active object", "INFO")
             return
-        count = len(operators_stream.grammar_keys(obj).keys)
+        count = len(stream_data.grammar_keys(obj).keys)
         ui_text.label(layout, context, f"{count} shape keys named for FAPs",
                       "CHECKMARK" if count else "ERROR")
         col = layout.column(align=True)
@@ -37,7 +40,7 @@ class MPEG4FACE_PT_fap_stream(panels._Sidebar, bpy.types.Panel):
         if state.fit_path:
             ui_text.label(box, context, f"FIT: {Path(bpy.path.abspath(state.fit_path)).name}",
                           boxes=1)
-        if operators_stream.is_live(obj):
+        if live_preview.is_live(obj):
             op = box.operator("mpeg4face.live_preview", text="Stop Live Preview", icon="PAUSE")
             op.action = "STOP"
         else:

@@ -7,14 +7,17 @@ import textwrap
 import bpy
 from bpy.props import FloatProperty
 
-from . import native
+from .. import native
 
-# Set by register() in __init__.py before this module registers.
+# The add-on's package (mpeg4face_blender, or what Blender installed it as): the key of
+# its preferences.
+ADDON = __package__.rpartition(".")[0]
+# Set by register() in the add-on's __init__.py before this module registers.
 status = native.NativeStatus(None, "not loaded yet")
 
 
 class MPEG4FACE_AP_preferences(bpy.types.AddonPreferences):
-    bl_idname = __package__
+    bl_idname = ADDON
 
     constraint_tolerance: FloatProperty(
         name="Location tolerance",
@@ -41,7 +44,7 @@ class MPEG4FACE_AP_preferences(bpy.types.AddonPreferences):
 
 
 def preferences(context: bpy.types.Context) -> MPEG4FACE_AP_preferences:
-    return context.preferences.addons[__package__].preferences
+    return context.preferences.addons[ADDON].preferences
 
 
 register, unregister = bpy.utils.register_classes_factory((MPEG4FACE_AP_preferences,))

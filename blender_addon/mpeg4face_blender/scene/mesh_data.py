@@ -12,7 +12,7 @@ import bpy
 import mpeg4face
 import numpy as np
 
-from . import fp_logic
+from ..logic import feature_points
 
 
 @contextmanager
@@ -47,7 +47,7 @@ def _index(bm: bmesh.types.BMesh) -> None:
 
 def standard_coords(bm: bmesh.types.BMesh) -> np.ndarray:
     """Vertex positions in the standard's axes (object space, Y up)."""
-    return fp_logic.to_standard_axes([v.co[:] for v in bm.verts])
+    return feature_points.to_standard_axes([v.co[:] for v in bm.verts])
 
 
 def coord_index(bm: bmesh.types.BMesh) -> list[int]:
@@ -63,7 +63,8 @@ def fp_groups(obj: bpy.types.Object, bm: bmesh.types.BMesh | None = None
               ) -> dict[str, list[tuple[int, float]]]:
     """FP_ vertex group name -> its (vertex, weight) members: from `bm`, or without it from
     the mesh datablock (Object Mode; far quicker than making a bmesh of a dense mesh)."""
-    by_index = {g.index: g.name for g in obj.vertex_groups if fp_logic.feature_point_of_group(g.name)}
+    by_index = {g.index: g.name for g in obj.vertex_groups
+                if feature_points.feature_point_of_group(g.name)}
     groups: dict[str, list[tuple[int, float]]] = {name: [] for name in by_index.values()}
     if not by_index:
         return groups
@@ -87,7 +88,7 @@ def selected_vertices(bm: bmesh.types.BMesh) -> list[int]:
 
 def set_feature_point(obj: bpy.types.Object, bm: bmesh.types.BMesh, fp: str, vertex: int) -> None:
     """Makes FP_<fp> hold exactly `vertex`, with weight 1 (moving it if it was elsewhere)."""
-    name = fp_logic.group_name(fp)
+    name = feature_points.group_name(fp)
     group = obj.vertex_groups.get(name) or obj.vertex_groups.new(name=name)
     layer = bm.verts.layers.deform.verify()
     for v in bm.verts:
@@ -108,7 +109,7 @@ def set_shape_key_coords(block: bpy.types.ShapeKey, coords: np.ndarray) -> None:
     block.data.foreach_set("co", np.asarray(coords, dtype=np.float32).ravel())
 
 
-def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
+def read_face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
                ) -> tuple[mpeg4face.FaceModel, list[str]]:
     """The mesh as a FaceModel (standard axes) with its feature points and the named shape
     keys as morph targets (displacements from the reference key: the whole shape, whatever
@@ -116,7 +117,7 @@ def face_model(obj: bpy.types.Object, shape_keys: Iterable[str] = ()
     Shape keys are read from the mesh datablock, so the object should be in Object Mode."""
     coords, faces, fp_vertices, warnings = mesh_and_points(obj)
     targets = shape_key_displacements(obj, shape_keys)
-    return fp_logic.face_model(coords, faces, fp_vertices, targets), warnings
+    return feature_points.face_model_from_arrays(coords, faces, fp_vertices, targets), warnings
 
 
 def mesh_and_points(obj: bpy.types.Object
@@ -127,13 +128,13 @@ def mesh_and_points(obj: bpy.types.Object
     second), in Edit Mode from the edit bmesh."""
     if obj.mode == "EDIT":
         with face_bmesh(obj) as bm:
-            fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj, bm))
+            fp_vertices, warnings = feature_points.fp_vertices_from_groups(fp_groups(obj, bm))
             return standard_coords(bm), coord_index(bm), fp_vertices, warnings
     mesh = obj.data
     co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
     mesh.vertices.foreach_get("co", co)
-    fp_vertices, warnings = fp_logic.fp_vertices_from_groups(fp_groups(obj))
-    return fp_logic.to_standard_axes(co), polygon_coord_index(mesh), fp_vertices, warnings
+    fp_vertices, warnings = feature_points.fp_vertices_from_groups(fp_groups(obj))
+    return feature_points.to_standard_axes(co), polygon_coord_index(mesh), fp_vertices, warnings
 
 
 def polygon_coord_index(mesh: bpy.types.Mesh) -> np.ndarray:
@@ -168,7 +169,7 @@ def shape_key_displacements(obj: bpy.types.Object, names: Iterable[str]
     for row, name in zip(buffer[1:], names):
         key.key_blocks[name].data.foreach_get("co", row)
     # Minus the reference in float64 (exact) straight into the standard's axes, (x, y, z)
-    # -> (x, z, -y) as fp_logic.to_standard_axes, without temporaries of the whole buffer.
+    # -> (x, z, -y) as feature_points.to_standard_axes, without temporaries of the whole buffer.
     rows = buffer.reshape(len(names) + 1, count, 3)
     moved = np.empty((len(names), count, 3))
     np.subtract(rows[1:, :, 0], rows[0, :, 0], out=moved[:, :, 0], dtype=np.float64)
@@ -182,7 +183,7 @@ def face_parts(obj: bpy.types.Object) -> list[bpy.types.Object]:
     return sorted((o for o in obj.children_recursive if o.type == "MESH"), key=lambda o: o.name)
 
 
-def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.FaceState:
+def read_face_state(obj: bpy.types.Object, constraint_tolerance: float) -> feature_points.FaceState:
     """The head's feature point state, FAPU and Table 6 warnings, with the feature points
     its parts hold (the pupils on the eyeball objects) where the head has none: their
     vertices placed in the head's object space as they are now."""
@@ -204,11 +205,12 @@ def face_state(obj: bpy.types.Object, constraint_tolerance: float) -> fp_logic.F
                 vertex = max(members, key=lambda m: m[1])[0]
                 point = matrix[:3, :3] @ np.array(bm.verts[vertex].co) + matrix[:3, 3]
                 groups[name] = [(len(coords) + len(extra), 1.0)]
-                extra.append(fp_logic.to_standard_axes([point])[0])
+                extra.append(feature_points.to_standard_axes([point])[0])
                 taken.add(name)
-                fp = fp_logic.feature_point_of_group(name)
+                fp = feature_points.feature_point_of_group(name)
                 if fp is not None:
                     part_points[fp] = part.name
     if extra:
         coords = np.vstack([coords, np.array(extra)])
-    return fp_logic.face_state(coords, faces, groups, constraint_tolerance, part_points)
+    return feature_points.face_state_from_arrays(coords, faces, groups, constraint_tolerance,
+                                                 part_points)

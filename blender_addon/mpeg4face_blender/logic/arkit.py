@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 import mpeg4face
 
-from . import fp_logic, shape_keys
+from . import feature_points, shape_keys
 
 # The labels' endings of the copies arkit_fap_keys adds to hold a FAP key past its reach.
 HELD_COPIES = ("_reach", "_held")
@@ -33,7 +33,7 @@ def arkit_key_names(names: Iterable[str]) -> list[str]:
 def made_keys(head: mpeg4face.FaceModel) -> dict[str, Array]:
     """The grammar-named morph targets of the head's first mesh (the FAP, viseme and
     expression keys arkit_fap_keys made) as key name -> displacement in Blender's axes."""
-    return {t.name: fp_logic.to_blender_axes(t.displacements)
+    return {t.name: feature_points.to_blender_axes(t.displacements)
             for t in head.meshes[0].morph_targets if shape_keys.is_grammar_name(t.name)}
 
 

@@ -7,12 +7,15 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
-from . import fp_logic, mesh_data, preferences, ui_text
+from ...logic import feature_points
+from ...scene import mesh_data
+from .. import preferences
+from .. import text as ui_text
 
 # The face state of one object, kept until a depsgraph update changes the geometry or
 # place of its head or parts (not a selection, a frame or another object's change): the
 # panels and the list's rows share one reading of the mesh, not one per redraw.
-_cache: dict[tuple[int, str, float], tuple[fp_logic.FaceState, frozenset[int]]] = {}
+_cache: dict[tuple[int, str, float], tuple[feature_points.FaceState, frozenset[int]]] = {}
 
 
 @persistent
@@ -32,7 +35,7 @@ def _face_ids(obj: bpy.types.Object) -> frozenset[int]:
     return frozenset(p for o in objects for p in (o.as_pointer(), o.data.as_pointer()))
 
 
-def face_state(context: bpy.types.Context) -> fp_logic.FaceState | None:
+def cached_face_state(context: bpy.types.Context) -> feature_points.FaceState | None:
     """The active mesh's state, or None when the active object is not a mesh."""
     obj = context.active_object
     if obj is None or obj.type != "MESH":
@@ -40,7 +43,7 @@ def face_state(context: bpy.types.Context) -> fp_logic.FaceState | None:
     tolerance = preferences.preferences(context).constraint_tolerance
     key = (obj.as_pointer(), obj.mode, tolerance)
     if key not in _cache:
-        _cache[key] = mesh_data.face_state(obj, tolerance), _face_ids(obj)
+        _cache[key] = mesh_data.read_face_state(obj, tolerance), _face_ids(obj)
     return _cache[key][0]
 
 
@@ -51,7 +54,7 @@ class MPEG4FACE_UL_feature_points(bpy.types.UIList):
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname,
                   index=0):
-        state = face_state(context)
+        state = cached_face_state(context)
         row = state.rows[index] if state and index < len(state.rows) else None
         is_set = row is not None and row.is_set
         split = layout.split(factor=0.42)
@@ -83,7 +86,7 @@ class MPEG4FACE_PT_feature_points(_Sidebar, bpy.types.Panel):
 
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
-        state = face_state(context)
+        state = cached_face_state(context)
         if state is None:
             ui_text.label(layout, context, "Make the head mesh the active object", "INFO")
             return
@@ -113,9 +116,9 @@ class MPEG4FACE_PT_feature_points(_Sidebar, bpy.types.Panel):
                               text=f"Assign {item.fp_id} to Selected Vertex")
             op.feature_point = item.fp_id
         ui_text.label(layout, context, "F: needed for FAPU, C: for cloning")
-        for title, needed in (("FAPU", fp_logic.fapu_points()),
-                              ("cloning", fp_logic.cloning_points())):
-            absent = fp_logic.missing(state.rows, needed)
+        for title, needed in (("FAPU", feature_points.fapu_points()),
+                              ("cloning", feature_points.cloning_points())):
+            absent = feature_points.missing(state.rows, needed)
             text = f"missing for {title}: {', '.join(absent)}" if absent else f"complete for {title}"
             ui_text.label(layout, context, text, "ERROR" if absent else "CHECKMARK")
         for warning in state.group_warnings:
@@ -135,7 +138,7 @@ class MPEG4FACE_PT_fapu(_Sidebar, bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context: bpy.types.Context) -> None:
-        state = face_state(context)
+        state = cached_face_state(context)
         if state is None:
             return
         col = self.layout.column(align=True)
@@ -155,7 +158,7 @@ class MPEG4FACE_PT_location_warnings(_Sidebar, bpy.types.Panel):
     bl_options = {"DEFAULT_CLOSED"}
 
     def draw(self, context: bpy.types.Context) -> None:
-        state = face_state(context)
+        state = cached_face_state(context)
         if state is None:
             return
         col = self.layout.column(align=True)

@@ -11,16 +11,18 @@ from bpy.props import BoolProperty
 
 import mpeg4face
 
-from . import arkit_logic, mesh_data, operators_faces
+from ...logic import arkit as arkit_logic
+from ...scene import mesh_data
+from . import faces as operators_faces
 
 # The last report per object name, for the panel's line and the tests; forgotten when a
 # file is loaded.
-reports: dict[str, arkit_logic.ArkitKeysReport] = {}
+arkit_reports: dict[str, arkit_logic.ArkitKeysReport] = {}
 
 
 @persistent
-def _forget_reports(*_args: object) -> None:
-    reports.clear()
+def _forget_arkit_reports(*_args: object) -> None:
+    arkit_reports.clear()
 
 
 def arkit_names(obj: bpy.types.Object) -> list[str]:
@@ -48,7 +50,7 @@ class MPEG4FACE_OT_arkit_fap_keys(bpy.types.Operator):
             return {"CANCELLED"}
         if not operators_faces.has_feature_points(self, obj):
             return {"CANCELLED"}
-        model, group_warnings = mesh_data.face_model(obj, arkit_names(obj))
+        model, group_warnings = mesh_data.read_face_model(obj, arkit_names(obj))
         try:  # without ARKit keys the core's error lists the names looked for
             result = mpeg4face.arkit_fap_keys(model, visemes=self.visemes,
                                               expressions=self.expressions)
@@ -59,7 +61,7 @@ class MPEG4FACE_OT_arkit_fap_keys(bpy.types.Operator):
         replaced = operators_faces.write_keys(obj, keys)
         report = arkit_logic.keys_report(obj.name, result, list(keys), replaced)
         report.warnings[:0] = group_warnings
-        reports[obj.name] = report
+        arkit_reports[obj.name] = report
         if report.warnings:
             self.report({"WARNING"}, f"{len(report.warnings)} warnings (see the report)")
         # The whole report as one entry of the Info editor; the summary last, for the status bar.
@@ -92,11 +94,11 @@ def show_report(context: bpy.types.Context, report: arkit_logic.ArkitKeysReport)
 
 def register() -> None:
     bpy.utils.register_class(MPEG4FACE_OT_arkit_fap_keys)
-    bpy.app.handlers.load_post.append(_forget_reports)
+    bpy.app.handlers.load_post.append(_forget_arkit_reports)
 
 
 def unregister() -> None:
-    if _forget_reports in bpy.app.handlers.load_post:
-        bpy.app.handlers.load_post.remove(_forget_reports)
-    reports.clear()
+    if _forget_arkit_reports in bpy.app.handlers.load_post:
+        bpy.app.handlers.load_post.remove(_forget_arkit_reports)
+    arkit_reports.clear()
     bpy.utils.unregister_class(MPEG4FACE_OT_arkit_fap_keys)

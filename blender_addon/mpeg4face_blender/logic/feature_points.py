@@ -165,7 +165,7 @@ def fp_vertices_from_groups(
     return vertices, warnings
 
 
-def face_model(
+def face_model_from_arrays(
     coords: npt.ArrayLike,
     coord_index: npt.ArrayLike,
     fp_vertices: Mapping[str, int],
@@ -224,7 +224,7 @@ class FaceState:
     part_points: Mapping[str, str] = field(default_factory=dict)
 
 
-def face_state(
+def face_state_from_arrays(
     coords: npt.ArrayLike,
     coord_index: npt.ArrayLike,
     groups: Mapping[str, Sequence[tuple[int, float]]],
@@ -234,7 +234,7 @@ def face_state(
     """Feature point statuses, FAPU and Table 6 warnings of a mesh (standard axes);
     `part_points` names the points whose vertices were added from the head's parts."""
     fp_vertices, group_warnings = fp_vertices_from_groups(groups)
-    model = face_model(coords, coord_index, fp_vertices)
+    model = face_model_from_arrays(coords, coord_index, fp_vertices)
     measurement = mpeg4face.measure_fapu(model)
     return FaceState(
         feature_point_rows(fp_vertices),

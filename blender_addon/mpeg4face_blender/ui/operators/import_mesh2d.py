@@ -98,16 +98,16 @@ class MPEG4FACE_OT_import_mesh2d(bpy.types.Operator, ImportHelper):
         return {"FINISHED"}
 
 
-def menu_entry(menu: bpy.types.Menu, context: bpy.types.Context) -> None:
+def mesh2d_import_menu(menu: bpy.types.Menu, context: bpy.types.Context) -> None:
     menu.layout.operator(MPEG4FACE_OT_import_mesh2d.bl_idname,
                          text="2D mesh sequence (.json, .m2d)")
 
 
 def register() -> None:
     bpy.utils.register_class(MPEG4FACE_OT_import_mesh2d)
-    bpy.types.TOPBAR_MT_file_import.append(menu_entry)
+    bpy.types.TOPBAR_MT_file_import.append(mesh2d_import_menu)
 
 
 def unregister() -> None:
-    bpy.types.TOPBAR_MT_file_import.remove(menu_entry)
+    bpy.types.TOPBAR_MT_file_import.remove(mesh2d_import_menu)
     bpy.utils.unregister_class(MPEG4FACE_OT_import_mesh2d)

@@ -18,21 +18,22 @@ import mpeg4face
 import numpy as np
 from mathutils import Matrix
 
-from . import compat, live_logic, poses, stream_logic
-
-ACTION_GROUP = "MPEG-4 FAP stream"
+from ..logic import live as live_logic
+from ..logic import stream as stream_logic
+from . import compat, poses
+from .stream_data import ACTION_GROUP  # the group of the shape-key curves too
 
 
 @dataclass
 class PoseBake:
-    """What bake() did: the FAPs shown by poses, the objects keyed, what it could not."""
+    """What key_poses() did: the FAPs shown by poses, the objects keyed, what it could not."""
 
     faps: list[int] = field(default_factory=list)
     keyed: list[str] = field(default_factory=list)
     problems: list[str] = field(default_factory=list)
 
 
-def pose_faps(scene: bpy.types.Scene) -> set[int]:
+def marker_faps(scene: bpy.types.Scene) -> set[int]:
     """The FAPs the scene's pose markers name."""
     out = set()
     for marker in poses.pose_markers(scene):
@@ -53,18 +54,18 @@ def _blender(matrix: np.ndarray) -> Matrix:
     return Matrix(out.tolist())
 
 
-def bake(head: bpy.types.Object, scene: bpy.types.Scene, key_names, stream: mpeg4face.FapStream,
-         start: int, frames: int, fps: float) -> PoseBake:
+def key_poses(head: bpy.types.Object, scene: bpy.types.Scene, key_names,
+              stream: mpeg4face.FapStream, start: int, frames: int, fps: float) -> PoseBake:
     """Keys the head and its parts where the evaluated Transforms put them, at the scene
     frames start .. start + frames - 1, when the stream sends a FAP a pose marker names;
     earlier keys of those objects in that range are replaced, other keys stay."""
     out = PoseBake()
     active = np.asarray(stream.resolved()["active"]).any(axis=0)
-    driven = sorted(f for f in pose_faps(scene) if active[f - 1])
+    driven = sorted(f for f in marker_faps(scene) if active[f - 1])
     if not driven:
         return out
     objects = [head, *poses.parts(head)]
-    model, _ = poses.face_model(head, key_names, scene)
+    model, _ = poses.read_posed_face_model(head, key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
     neutral = [t.local_matrix() for t in model.transforms]
     centers = [t.center for t in model.transforms]

@@ -5,8 +5,11 @@ keys, the last "Generate FaceDefTables" report, and cloning."""
 import bpy
 from bpy.props import EnumProperty
 
-from . import operators_arkit, operators_faces, shape_keys, ui_text
-from .panels import _Sidebar
+from ...logic import shape_keys
+from .. import text as ui_text
+from ..operators import arkit as operators_arkit
+from ..operators import faces as operators_faces
+from .feature_points import _Sidebar
 
 REPORTS = (("TABLES", "FaceDefTables", "The last Generate FaceDefTables report"),
            ("ARKIT", "FAP Keys from ARKit", "The last FAP Keys from ARKit Keys report"))
@@ -23,7 +26,8 @@ class MPEG4FACE_OT_show_report(bpy.types.Operator):
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         obj = context.active_object
-        source = operators_faces.reports if self.kind == "TABLES" else operators_arkit.reports
+        source = (operators_faces.table_reports if self.kind == "TABLES"
+                  else operators_arkit.arkit_reports)
         report = source.get(obj.name) if obj is not None else None
         if report is None:
             self.report({"ERROR"}, "No report yet: run it first")
@@ -58,7 +62,7 @@ class MPEG4FACE_PT_shape_keys(_Sidebar, bpy.types.Panel):
         col.operator("mpeg4face.map_shape_keys", icon="SHAPEKEY_DATA")
         col.operator("mpeg4face.mirror_shape_key", icon="MOD_MIRROR")
         col.operator("mpeg4face.arkit_fap_keys", icon="SHAPEKEY_DATA")
-        report = operators_arkit.reports.get(obj.name)
+        report = operators_arkit.arkit_reports.get(obj.name)
         if report is not None:
             ui_text.label(layout, context, report.summary(), "INFO")
             layout.operator("mpeg4face.show_report", text="Show ARKit Report",
@@ -75,7 +79,7 @@ class MPEG4FACE_PT_face_tables(_Sidebar, bpy.types.Panel):
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
         layout.operator("mpeg4face.generate_tables", icon="FILE_REFRESH")
-        report = operators_faces.reports.get(context.active_object.name)
+        report = operators_faces.table_reports.get(context.active_object.name)
         if report is None:
             layout.label(text="Not generated yet")
             return

@@ -11,7 +11,8 @@ from bpy_extras.io_utils import ExportHelper
 
 import mpeg4face
 
-from . import operators_faces, shape_keys
+from ...logic import shape_keys
+from . import faces as operators_faces
 
 
 class _ExportFace(ExportHelper):
@@ -68,7 +69,7 @@ class _ExportFace(ExportHelper):
         except (mpeg4face.Error, OSError) as error:
             self.report({"ERROR"}, f"Nothing written: {error}")
             return {"CANCELLED"}
-        operators_faces.reports[obj.name] = report
+        operators_faces.table_reports[obj.name] = report
         for warning in report.warnings:
             self.report({"WARNING"}, warning)
         self.report({"INFO"}, f"Wrote {self.filepath}: {report.lines()[0]}")

@@ -28,7 +28,9 @@ import mpeg4face
 import numpy as np
 from mathutils import Matrix
 
-from . import fp_logic, mesh_data, rig_logic, shape_keys
+from ..logic import feature_points, shape_keys
+from ..logic import rig as rig_logic
+from . import mesh_data
 
 NEUTRAL_MARKER = "neutral"
 # Blender's Z-up axes to the standard's Y-up ones, (x, y, z) -> (x, z, -y), as for vertices.
@@ -178,10 +180,12 @@ def _pose_channels(matrices: list[Matrix]) -> list[mpeg4face.TransformChannel]:
     return channels
 
 
-def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], Iterable[str]],
-               scene: bpy.types.Scene, progress: Callable[[float], None] | None = None,
-               wanted: Callable[[str], bool] | None = None
-               ) -> tuple[mpeg4face.FaceModel, list[str]]:
+def read_posed_face_model(head: bpy.types.Object,
+                          key_names: Callable[[bpy.types.Object], Iterable[str]],
+                          scene: bpy.types.Scene,
+                          progress: Callable[[float], None] | None = None,
+                          wanted: Callable[[str], bool] | None = None
+                          ) -> tuple[mpeg4face.FaceModel, list[str]]:
     """The head and its parts (meshes as the rig has them at the neutral marker, feature
     points, the shape keys key_names(object) gives plus the rig's deformed copies at the
     pose markers) with the pose markers as animations; and the warnings about FP_ groups.
@@ -230,9 +234,9 @@ def face_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], I
         targets = mesh_data.shape_key_displacements(obj, filter(wanted, key_names(obj)))
         for (name, _), copies in zip(posed, deformed):
             if rig_logic.moves(copies[index], size):
-                d = fp_logic.to_standard_axes(copies[index])
+                d = feature_points.to_standard_axes(copies[index])
                 targets[name] = targets[name] + d if name in targets else d
-        mesh = mpeg4face.IndexedFaceSet(obj.name, fp_logic.to_standard_axes(
+        mesh = mpeg4face.IndexedFaceSet(obj.name, feature_points.to_standard_axes(
             neutral_coords[index]), faces)
         mesh.morph_targets = [mpeg4face.MorphTarget(name, d) for name, d in targets.items()]
         meshes.append(mesh)
@@ -278,10 +282,11 @@ def _check_feature_points_move(objects, key_names, posed, deformed, fp_objects, 
 
 def head_model(head: bpy.types.Object, key_names: Callable[[bpy.types.Object], Iterable[str]],
                scene: bpy.types.Scene) -> tuple[mpeg4face.FaceModel, list[str]]:
-    """The head alone as face_model sees it (its mesh at the neutral marker, its shape keys
-    and the rig's deformed copies as morph targets, its feature points), for cloning."""
-    model, warnings = face_model(head, key_names, scene)
+    """The head alone as read_posed_face_model sees it (its mesh at the neutral marker, its
+    shape keys and the rig's deformed copies as morph targets, its feature points), for
+    cloning."""
+    model, warnings = read_posed_face_model(head, key_names, scene)
     mesh = model.meshes[0]
     fp_vertices = {fp: b.vertex for fp, b in model.feature_points.items() if b.mesh == 0}
-    return fp_logic.face_model(mesh.coord, mesh.coord_index, fp_vertices,
+    return feature_points.face_model_from_arrays(mesh.coord, mesh.coord_index, fp_vertices,
                                {t.name: t.displacements for t in mesh.morph_targets}), warnings

@@ -4,7 +4,7 @@ with named face bones through a FAP -> bone mapping table), each mapped FAP gets
 marker at which its bone is posed so that the FAP's feature point moves the FAP's amplitude
 (in the head's FAPU) along the FAP's direction, measured on the evaluated mesh and
 corrected until within the tolerance (rig_logic.fit_pose). "Generate FaceDefTables" and the
-export then read the rig's deformed copies there (poses.face_model). A panel in the
+export then read the rig's deformed copies there (poses.read_posed_face_model). A panel in the
 sidebar's MPEG-4 tab runs it."""
 
 # No postponed annotations: bpy reads the property annotations.
@@ -16,12 +16,15 @@ import numpy as np
 from bpy.props import FloatProperty, IntProperty, StringProperty
 from mathutils import Vector
 
-from . import fp_logic, mesh_data, operators_faces, poses, rig_logic, shape_keys
-from .operators import active_mesh
-from .panels import _Sidebar
+from ...logic import feature_points, shape_keys
+from ...logic import rig as rig_logic
+from ...scene import mesh_data, poses
+from ..panels.feature_points import _Sidebar
+from . import faces as operators_faces
+from .feature_points import active_mesh
 
 # The last report per head object name, for the panel; forgotten with the other reports.
-reports: dict[str, rig_logic.PoseReport] = {}
+pose_reports: dict[str, rig_logic.PoseReport] = {}
 
 
 def rig_of(head: bpy.types.Object) -> bpy.types.Object | None:
@@ -47,14 +50,14 @@ def _set(bone: bpy.types.PoseBone, channel: rig_logic.BoneChannel, direction: Ve
 def _local_direction(head: bpy.types.Object, rig: bpy.types.Object, bone: bpy.types.PoseBone,
                      standard: np.ndarray) -> Vector:
     """A direction of the head's standard axes in the bone's rest axes (pose locations)."""
-    obj = Vector(fp_logic.to_blender_axes(standard)[0])
+    obj = Vector(feature_points.to_blender_axes(standard)[0])
     world = head.matrix_world.to_3x3() @ obj
     local = bone.bone.matrix_local.to_3x3().inverted() @ (rig.matrix_world.to_3x3().inverted()
                                                           @ world)
     return local.normalized()
 
 
-def pose_faps(head: bpy.types.Object, rig: bpy.types.Object,
+def key_fap_poses(head: bpy.types.Object, rig: bpy.types.Object,
               mapping: dict[int, rig_logic.BoneChannel], amplitude: int,
               scene: bpy.types.Scene, tolerance: float = 0.05,
               progress: Callable[[float], None] | None = None) -> rig_logic.PoseReport:
@@ -85,8 +88,9 @@ def pose_faps(head: bpy.types.Object, rig: bpy.types.Object,
         _, faces, fp_vertices, _ = mesh_data.mesh_and_points(head)
         with poses.rig_only([head], operators_faces.key_names):
             bpy.context.view_layer.update()
-            neutral = fp_logic.to_standard_axes(poses.evaluated_coords(head, depsgraph))
-            fapu = mpeg4face.measure_fapu(fp_logic.face_model(neutral, faces, fp_vertices))
+            neutral = feature_points.to_standard_axes(poses.evaluated_coords(head, depsgraph))
+            fapu = mpeg4face.measure_fapu(
+                feature_points.face_model_from_arrays(neutral, faces, fp_vertices))
             fits = []
             for done, (fap, channel) in enumerate(channels.items(), 1):
                 fit = _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral,
@@ -138,11 +142,11 @@ def _fit(head, rig, fap, channel, amplitude, fapu, fp_vertices, neutral, depsgra
             _set(each, channel, direction_there, value)
         bpy.context.view_layer.update()
         coords = poses.evaluated_coords(head, depsgraph)
-        return fp_logic.to_standard_axes(coords[vertex])[0] - neutral[vertex]
+        return feature_points.to_standard_axes(coords[vertex])[0] - neutral[vertex]
 
     if channel.channel == "rotation":  # an arc of `wanted` at the point's distance
         pivot = rig.matrix_world @ bone.bone.head_local
-        point = head.matrix_world @ Vector(fp_logic.to_blender_axes(neutral[vertex])[0])
+        point = head.matrix_world @ Vector(feature_points.to_blender_axes(neutral[vertex])[0])
         first = channel.sign * wanted / max((point - pivot).length, 1e-9)
     else:
         first = channel.sign * wanted
@@ -215,12 +219,12 @@ class MPEG4FACE_OT_pose_faps_bones(bpy.types.Operator):
                 path = bpy.path.abspath(self.mapping_file)
                 with open(path, encoding="utf-8") as f:
                     mapping = rig_logic.mapping_from_json(f.read(), path)
-            report = operators_faces.with_progress(context, 1, lambda update: pose_faps(
+            report = operators_faces.with_progress(context, 1, lambda update: key_fap_poses(
                 head, rig, mapping, self.amplitude, context.scene, self.tolerance, update))
         except (OSError, ValueError) as error:  # mpeg4face.Error is a ValueError
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
-        reports[head.name] = report
+        pose_reports[head.name] = report
         if not report.posed:
             self.report({"ERROR"}, "; ".join(report.lines()))
             return {"CANCELLED"}
@@ -245,7 +249,7 @@ class MPEG4FACE_PT_rig(_Sidebar, bpy.types.Panel):
         layout.label(text=f"Rig: {rig.name}" if rig else "No armature bound",
                      icon="ARMATURE_DATA")
         layout.operator(MPEG4FACE_OT_pose_faps_bones.bl_idname, icon="POSE_HLT")
-        report = reports.get(head.name)
+        report = pose_reports.get(head.name)
         if report is not None:
             for line in report.lines()[:1] + [l for l in report.lines() if
                                               l.startswith("not posed")]:
