@@ -73,4 +73,78 @@ struct Mapping {
 Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, const FaceModel& target,
                      const Surface& targetSurface, const CloneOptions& options);
 
+// The surface projected (project()): each row's point in alignment space and its depth.
+struct Projected {
+  Points2 uv;
+  std::vector<double> depth;
+  std::vector<int> triangles;  // without those that cross the seam behind the head
+};
+// The projected point of feature point `id`, which `model` must have.
+Eigen::Vector2d projectedPoint(const FaceModel& model, const FaceFrame& frame, std::string_view id);
+
+// --- clone_lips.cpp: the lip of each surface point (docs/clone.md, the lip rule).
+std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& frame,
+                                    const Projected& p, const Points2& centroid,
+                                    const Surface& surface);
+
+// --- clone_same_place.cpp
+// Finds the source vertex at a target point's place (alignment space and depth), for the
+// exact motion of coincident vertices.
+class SamePlace {
+ public:
+  SamePlace(const Projected& source, const Points2& centroid);
+  int find(const Eigen::Vector2d& p, double depth, double radius, const Eigen::Vector2d& centroid,
+           LipRegion excluded, const std::vector<LipRegion>& lips) const;
+  static constexpr double kSame = 1e-9;  // alignment units: a face is about 3 wide
+
+ private:
+  const Projected& source_;
+  const Points2& centroid_;
+  std::vector<int> byU_;
+};
+
+// --- clone_butterfly.cpp
+// The modified butterfly rule's value at the midpoint of a mesh edge (Zorin et al. 1996, regular
+// case: 1/2 at its ends, 1/8 at the two opposite corners, -1/16 at the four wing corners), as
+// weights over the mesh's points: with the corners', it makes a quadratic interpolation in a
+// triangle that keeps a peak round where linear interpolation flattens it (ours).
+class ButterflyMidpoints {
+ public:
+  ButterflyMidpoints(std::span<const int> triangles, Eigen::Index pointCount);
+  // Appends the stencil of edge (a, b) times `weight` to `out`; the plain midpoint where the
+  // edge's neighbourhood is not two regular triangles on each side, or where it reaches a
+  // point `excluded` says no to.
+  template <class Excluded>
+  void add(int a, int b, double weight, const Excluded& excluded,
+           std::vector<std::pair<int, double>>& out) const {
+    std::array<int, 8> v{a, b, -1, -1, -1, -1, -1, -1};
+    // The corner of the two triangles on edge (x, y) other than `not_` (-1: not two).
+    const auto other = [&](int x, int y, int not_) {
+      const auto [first, second] = opposite(x, y);
+      return second < 0 ? -1 : first == not_ ? second : first;
+    };
+    const auto [o0, o1] = opposite(a, b);
+    bool regular = o1 >= 0;
+    if (regular) {
+      v[2] = o0;
+      v[3] = o1;
+      v[4] = other(a, v[2], b);
+      v[5] = other(b, v[2], a);
+      v[6] = other(a, v[3], b);
+      v[7] = other(b, v[3], a);
+      for (int x : v) regular = regular && x >= 0 && !excluded(x);
+    }
+    static constexpr std::array<double, 8> kButterfly{0.5,     0.5,     0.125,   0.125,
+                                                      -0.0625, -0.0625, -0.0625, -0.0625};
+    for (std::size_t i = 0; i < (regular ? 8u : 2u); ++i) {
+      out.emplace_back(v[i], weight * (regular ? kButterfly[i] : 0.5));
+    }
+  }
+
+ private:
+  std::pair<int, int> opposite(int x, int y) const;
+  std::vector<int> start_;
+  std::vector<std::pair<int, int>> edges_;  // (higher point, opposite corner)
+};
+
 }  // namespace mpeg4face::clone

@@ -5,7 +5,6 @@
 // per target vertex so that each copy costs one sparse product. docs/clone.md.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -19,12 +18,6 @@ namespace mpeg4face::clone {
 namespace {
 
 constexpr std::uint8_t kUpperTag = 1, kLowerTag = 2;
-
-struct Projected {
-  Points2 uv;
-  std::vector<double> depth;
-  std::vector<int> triangles;  // without those that cross the seam behind the head
-};
 
 Projected projectSurface(const Surface& s, const FaceFrame& frame) {
   Projected p;
@@ -48,55 +41,6 @@ Projected projectSurface(const Surface& s, const FaceFrame& frame) {
   return p;
 }
 
-Eigen::Vector2d projectedPoint(const FaceModel& model, const FaceFrame& frame,
-                               std::string_view id) {
-  return project(frame, *model.featurePointPosition(std::string(id)));
-}
-
-// Crossing-number test.
-bool insidePolygon(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector2d& p) {
-  bool inside = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Eigen::Vector2d& a = poly[i];
-    const Eigen::Vector2d& b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
-
-// A contour's projected points sorted along the mouth (by u, so that a face's left / right
-// labels do not matter).
-std::vector<Eigen::Vector2d> sortedContour(const FaceModel& model, const FaceFrame& frame,
-                                           std::span<const std::string_view> ids) {
-  std::vector<Eigen::Vector2d> points;
-  for (std::string_view id : ids) points.push_back(projectedPoint(model, frame, id));
-  std::sort(points.begin(), points.end(),
-            [](const auto& a, const auto& b) { return a.x() < b.x(); });
-  return points;
-}
-
-// The lip contour along the mouth, then the closing points back the other way.
-std::vector<Eigen::Vector2d> lipPolygon(std::vector<Eigen::Vector2d> contour,
-                                        std::vector<Eigen::Vector2d> back) {
-  std::reverse(back.begin(), back.end());
-  contour.insert(contour.end(), back.begin(), back.end());
-  return contour;
-}
-
-// v of a contour sorted by u, linear between its points, held beyond its ends.
-double contourHeight(const std::vector<Eigen::Vector2d>& contour, double u) {
-  if (u <= contour.front().x()) return contour.front().y();
-  for (std::size_t i = 1; i < contour.size(); ++i) {
-    const Eigen::Vector2d &a = contour[i - 1], &b = contour[i];
-    if (u <= b.x())
-      return b.x() > a.x() ? a.y() + (u - a.x()) / (b.x() - a.x()) * (b.y() - a.y()) : b.y();
-  }
-  return contour.back().y();
-}
-
 // Each point's mean of the centroids of the triangles it is a corner of (itself when on none):
 // the side of the point its surface lies on.
 Points2 meanTriangleCentroid(const Points2& uv, std::span<const int> triangles) {
@@ -115,89 +59,6 @@ Points2 meanTriangleCentroid(const Points2& uv, std::span<const int> triangles) 
     sum.row(r) = c > 0 ? Eigen::RowVector2d(sum.row(r) / c) : Eigen::RowVector2d(uv.row(r));
   }
   return sum;
-}
-
-// Upper and lower lip vertices coincide on a closed mouth, so a vertex is classified at a
-// point nudged a tenth of the way towards the mean centroid of its triangles: that side of
-// the contour is the lip it belongs to. A point in the mouth slit (an open mouth's, or one
-// nudged into it) belongs to the nearer inner contour, unless most of its neighbours say
-// otherwise. The lip feature points are the lip
-// the standard says, the corners neither (lipFeaturePoints): a corner's triangles belong
-// to the lip of their other corners.
-std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& frame,
-                                    const Projected& p, const Points2& centroid,
-                                    const Surface& surface) {
-  const auto upperContour = sortedContour(model, frame, upperLipContour());
-  const auto lowerContour = sortedContour(model, frame, lowerLipContour());
-  const auto upper = lipPolygon(upperContour, sortedContour(model, frame, noseSides()));
-  const auto lower = lipPolygon(lowerContour, sortedContour(model, frame, chinSides()));
-  const auto slit = lipPolygon(upperContour, lowerContour);
-  // The box around the three polygons: most of a head is outside it.
-  Eigen::Vector2d lo = upper.front(), hi = lo;
-  for (const auto* polygon : {&upper, &lower}) {
-    for (const Eigen::Vector2d& v : *polygon) {
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
-    }
-  }
-  const Eigen::Index n = p.uv.rows();
-  std::vector<LipRegion> lips(static_cast<std::size_t>(n), LipRegion::Outside);
-  std::vector<bool> inSlit(static_cast<std::size_t>(n), false);
-  for (Eigen::Index r = 0; r < n; ++r) {
-    const Eigen::Vector2d q = p.uv.row(r) + 0.1 * (centroid.row(r) - p.uv.row(r));
-    if ((q.array() < lo.array()).any() || (q.array() > hi.array()).any()) continue;
-    LipRegion& lip = lips[static_cast<std::size_t>(r)];
-    if (insidePolygon(upper, q)) {
-      lip = LipRegion::Upper;
-    } else if (insidePolygon(lower, q)) {
-      lip = LipRegion::Lower;
-    } else if (insidePolygon(slit, q)) {
-      const double middle =
-          0.5 * (contourHeight(upperContour, q.x()) + contourHeight(lowerContour, q.x()));
-      lip = q.y() >= middle ? LipRegion::Upper : LipRegion::Lower;
-      inSlit[static_cast<std::size_t>(r)] = true;
-    }
-  }
-  for (const auto& [id, lip] : lipFeaturePoints()) {
-    const auto it = model.featurePoints.find(std::string(id));
-    if (it == model.featurePoints.end() || it->second.mesh < 0) continue;
-    const int first = surface.firstRow[static_cast<std::size_t>(it->second.mesh)];
-    if (first < 0) continue;
-    const auto row = static_cast<std::size_t>(first + it->second.vertex);
-    lips[row] = lip;
-    inSlit[row] = false;
-  }
-  // Behind the lips (a mouth bag seen through the slit) the height says little: a vertex of
-  // the lower lip's inner side may project above the middle. There the surface decides: a
-  // slit vertex takes the lip most of its neighbours belong to, until none changes.
-  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(n));
-  for (std::size_t t = 0; t + 2 < p.triangles.size(); t += 3) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const int a = p.triangles[t + k];
-      if (!inSlit[static_cast<std::size_t>(a)]) continue;
-      for (std::size_t j = 1; j < 3; ++j) {
-        neighbours[static_cast<std::size_t>(a)].push_back(p.triangles[t + (k + j) % 3]);
-      }
-    }
-  }
-  for (bool changed = true; changed;) {  // converges: each change adds agreeing neighbours
-    changed = false;
-    for (Eigen::Index r = 0; r < n; ++r) {
-      if (!inSlit[static_cast<std::size_t>(r)]) continue;
-      int upperVotes = 0, lowerVotes = 0;
-      for (int v : neighbours[static_cast<std::size_t>(r)]) {
-        upperVotes += lips[static_cast<std::size_t>(v)] == LipRegion::Upper;
-        lowerVotes += lips[static_cast<std::size_t>(v)] == LipRegion::Lower;
-      }
-      LipRegion& lip = lips[static_cast<std::size_t>(r)];
-      const LipRegion vote = upperVotes > lowerVotes   ? LipRegion::Upper
-                             : lowerVotes > upperVotes ? LipRegion::Lower
-                                                       : lip;
-      changed = changed || vote != lip;
-      lip = vote;
-    }
-  }
-  return lips;
 }
 
 // Each point's mean length of the edges of `triangles` that meet there (0 for a point on none):
@@ -248,127 +109,6 @@ double filterSupportAt(const CloneOptions& options, double targetEdge, double so
   return std::max(support, smooth);
 }
 
-// Finds the source vertex at a target point's place (alignment space and depth), for the
-// exact motion of coincident vertices.
-class SamePlace {
- public:
-  SamePlace(const Projected& source, const Points2& centroid)
-      : source_(source), centroid_(centroid) {
-    std::vector<bool> used(static_cast<std::size_t>(source.uv.rows()), false);
-    for (int corner : source.triangles) used[static_cast<std::size_t>(corner)] = true;
-    for (Eigen::Index r = 0; r < source.uv.rows(); ++r) {
-      if (used[static_cast<std::size_t>(r)]) byU_.push_back(static_cast<int>(r));
-    }
-    std::sort(byU_.begin(), byU_.end(),
-              [&](int a, int b) { return source.uv(a, 0) < source.uv(b, 0); });
-  }
-  // The source row nearest to (p, depth) within `radius` (alignment space and depth), -1 if
-  // none; of several at one place (a closed mouth's lips, a mesh split along a seam), the one
-  // not of lip `excluded` whose triangles lie on the side of `centroid` (the target point's
-  // mean triangle centroid).
-  int find(const Eigen::Vector2d& p, double depth, double radius, const Eigen::Vector2d& centroid,
-           LipRegion excluded, const std::vector<LipRegion>& lips) const {
-    auto it = std::lower_bound(byU_.begin(), byU_.end(), p.x() - radius,
-                               [&](int r, double u) { return source_.uv(r, 0) < u; });
-    int best = -1;
-    double bestD = std::numeric_limits<double>::infinity(), bestSide = bestD;
-    for (; it != byU_.end() && source_.uv(*it, 0) <= p.x() + radius; ++it) {
-      const auto r = static_cast<std::size_t>(*it);
-      if (excluded != LipRegion::Outside && lips[r] == excluded) continue;
-      double d = Eigen::Vector3d(source_.uv(*it, 0) - p.x(), source_.uv(*it, 1) - p.y(),
-                                 source_.depth[r] - depth)
-                     .norm();
-      if (d > radius) continue;
-      if (d <= kSame) d = 0;
-      const double side = (centroid_.row(*it).transpose() - centroid).squaredNorm();
-      if (d < bestD || (d == bestD && side < bestSide)) {
-        bestD = d;
-        bestSide = side;
-        best = *it;
-      }
-    }
-    return best;
-  }
-  static constexpr double kSame = 1e-9;  // alignment units: a face is about 3 wide
-
- private:
-  const Projected& source_;
-  const Points2& centroid_;
-  std::vector<int> byU_;
-};
-
-// The modified butterfly rule's value at the midpoint of a mesh edge (Zorin et al. 1996, regular
-// case: 1/2 at its ends, 1/8 at the two opposite corners, -1/16 at the four wing corners), as
-// weights over the mesh's points: with the corners', it makes a quadratic interpolation in a
-// triangle that keeps a peak round where linear interpolation flattens it (ours).
-class ButterflyMidpoints {
- public:
-  ButterflyMidpoints(std::span<const int> triangles, Eigen::Index pointCount) {
-    // Per point, the edges to points of higher index with each edge's opposite corner (CSR).
-    start_.assign(static_cast<std::size_t>(pointCount) + 1, 0);
-    const auto forEdges = [&](auto f) {
-      for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-        for (std::size_t k = 0; k < 3; ++k) {
-          const int a = triangles[t + k], b = triangles[t + (k + 1) % 3];
-          f(std::min(a, b), std::max(a, b), triangles[t + (k + 2) % 3]);
-        }
-      }
-    };
-    forEdges([&](int lo, int, int) { ++start_[static_cast<std::size_t>(lo) + 1]; });
-    for (std::size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
-    edges_.resize(static_cast<std::size_t>(start_.back()));
-    std::vector<int> next(start_.begin(), start_.end() - 1);
-    forEdges([&](int lo, int hi, int opposite) {
-      edges_[static_cast<std::size_t>(next[static_cast<std::size_t>(lo)]++)] = {hi, opposite};
-    });
-  }
-  // Appends the stencil of edge (a, b) times `weight` to `out`; the plain midpoint where the
-  // edge's neighbourhood is not two regular triangles on each side, or where it reaches a
-  // point `excluded` says no to.
-  template <class Excluded>
-  void add(int a, int b, double weight, const Excluded& excluded,
-           std::vector<std::pair<int, double>>& out) const {
-    std::array<int, 8> v{a, b, -1, -1, -1, -1, -1, -1};
-    // The corner of the two triangles on edge (x, y) other than `not_` (-1: not two).
-    const auto other = [&](int x, int y, int not_) {
-      const auto [first, second] = opposite(x, y);
-      return second < 0 ? -1 : first == not_ ? second : first;
-    };
-    const auto [o0, o1] = opposite(a, b);
-    bool regular = o1 >= 0;
-    if (regular) {
-      v[2] = o0;
-      v[3] = o1;
-      v[4] = other(a, v[2], b);
-      v[5] = other(b, v[2], a);
-      v[6] = other(a, v[3], b);
-      v[7] = other(b, v[3], a);
-      for (int x : v) regular = regular && x >= 0 && !excluded(x);
-    }
-    static constexpr std::array<double, 8> kButterfly{0.5,     0.5,     0.125,   0.125,
-                                                      -0.0625, -0.0625, -0.0625, -0.0625};
-    for (std::size_t i = 0; i < (regular ? 8u : 2u); ++i) {
-      out.emplace_back(v[i], weight * (regular ? kButterfly[i] : 0.5));
-    }
-  }
-
- private:
-  // The opposite corners of edge (x, y) when exactly two triangles share it, else (-1, -1).
-  std::pair<int, int> opposite(int x, int y) const {
-    const auto lo = static_cast<std::size_t>(std::min(x, y));
-    const int hi = std::max(x, y);
-    std::array<int, 3> found{-1, -1, -1};
-    std::size_t count = 0;
-    for (int i = start_[lo]; i < start_[lo + 1]; ++i) {
-      const auto& [end, corner] = edges_[static_cast<std::size_t>(i)];
-      if (end == hi && count < 3) found[count++] = corner;
-    }
-    return count == 2 ? std::pair{found[0], found[1]} : std::pair{-1, -1};
-  }
-  std::vector<int> start_;
-  std::vector<std::pair<int, int>> edges_;  // (higher point, opposite corner)
-};
-
 // The required feature points' projected points, in cloneFeaturePoints() order.
 Points2 projectedFeaturePoints(const FaceModel& model, const FaceFrame& frame) {
   const auto ids = cloneFeaturePoints();
@@ -415,6 +155,11 @@ Eigen::Vector3d regionFactors(const TriangleWeights& w,
 }
 
 }  // namespace
+
+Eigen::Vector2d projectedPoint(const FaceModel& model, const FaceFrame& frame,
+                               std::string_view id) {
+  return project(frame, *model.featurePointPosition(std::string(id)));
+}
 
 Surface gatherSurface(const FaceModel& model, std::span<const int> excludedMeshes) {
   Surface s;
