@@ -116,6 +116,7 @@ __all__ = [
     "write_vrml",
     "write_face_gltf",
     "FatEvaluator",
+    "border_weights",
     "vertex_normals",
     "clone_feature_points",
     "clone_face",

@@ -236,6 +236,39 @@ void bindEvaluator(py::module_& m) {
       "neutral",
       [](const PyFatEvaluator& self) { return stateToPython(self.evaluator.neutralState()); },
       "The neutral face, shaped as evaluate()'s result.");
+  cls.def(
+      "priority_frames",
+      [](const PyFatEvaluator& self, const FapStream& stream) {
+        const std::vector<FapState> states = resolveFapStream(stream);
+        py::array_t<bool> out(static_cast<py::ssize_t>(states.size()));
+        for (std::size_t i = 0; i < states.size(); ++i) {
+          out.mutable_at(static_cast<py::ssize_t>(i)) =
+              self.evaluator.priorityApplies(resolvedFrame(states[i]));
+        }
+        return out;
+      },
+      "stream"_a,
+      "Per frame of the stream (resolved as evaluate() does), whether a low-level FAP present "
+      "overrides a viseme or expression on a vertex or Transform field both move: there the "
+      "result is not the sum of the tables' motions (which shape keys show).");
+  m.def(
+      "border_weights",
+      [](const std::vector<int>& borders,
+         const py::array_t<double, py::array::c_style | py::array::forcecast>& values) {
+        checkIntervalBorders(borders);
+        const py::ssize_t n = values.size();
+        py::array_t<double> out({n, static_cast<py::ssize_t>(borders.size())});
+        const double* in = values.data();
+        std::vector<double> w;
+        for (py::ssize_t i = 0; i < n; ++i) {
+          borderWeights(borders, in[i], w);
+          for (std::size_t b = 0; b < w.size(); ++b) out.mutable_at(i, py::ssize_t(b)) = w[b];
+        }
+        return out;
+      },
+      "borders"_a, "values"_a,
+      "The FAT rule as weights of the motions at the interval borders, (len(values), "
+      "len(borders)): what shape keys at those amplitudes are set to (borderWeights).");
 }
 
 void bindClone(py::module_& m) {

@@ -583,4 +583,22 @@ void FatEvaluator::evaluate(const FapFrame& frame, FatState& state) const {
   }
 }
 
+bool FatEvaluator::priorityApplies(const FapFrame& frame) const {
+  const FapBits active = frame.mask & lowLevelWithTables_;
+  if (active.none()) return false;
+  for (const Table& t : tables_) {
+    if (t.fapID > 2) break;  // sorted by fapID: the visemes and expressions come first
+    if (!frame.has(t.fapID) || tableInput(t.fapID, t.highLevelSelect, frame) == 0) continue;
+    for (const Mesh& m : t.meshes) {
+      for (const FapBits& covered : m.coveredBy) {
+        if ((covered & active).any()) return true;
+      }
+    }
+    for (const TransformDef& d : t.transforms) {
+      if ((d.coveredBy & active).any()) return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace mpeg4face

@@ -21,6 +21,7 @@ from mathutils import Matrix  # noqa: E402
 from mpeg4face_blender.logic import feature_points  # noqa: E402
 from mpeg4face_blender.scene import (  # noqa: E402
     compat, live_preview, mesh_data, poses, stream_data)
+from mpeg4face_blender.ui.operators import bake  # noqa: E402
 from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 from mpeg4face_blender.ui.panels import stream as panels_stream  # noqa: E402
 
@@ -210,6 +211,46 @@ def test_live_preview_is_the_fat_result_and_stops(head, joy):
     # started again from the panel's button, from the remembered stream
     assert bpy.ops.mpeg4face.live_preview(action="START") == {"FINISHED"}
     assert live_preview.is_live(head)
+
+
+def test_the_bake_is_the_live_preview_where_no_priority_applies(head, tmp_path):
+    """FAP 3 keyed at 128, 512 and -256 (three intervals, not proportional), viseme 3 and
+    FAP 5 on some of the viseme's vertices: baked, every frame shows what Live shows, but
+    those where FAP 5 and the viseme are sent together (the low-level FAP overrides the
+    viseme there, which shape keys cannot show); the bake names those frames."""
+    add_key(head, "fap3@128", by=np.array([0.02, 0.0, -0.05]))
+    add_key(head, "fap3@-256", by=np.array([0.0, 0.01, 0.03]))
+    add_key(head, "viseme3", moved=slice(30, 50), by=np.array([0.0, 0.04, 0.0]))
+    add_key(head, "fap5@300", moved=slice(40, 45), by=np.array([0.0, 0.0, 0.02]))
+    frames = 30
+    mask = np.zeros((frames, 68), dtype=bool)
+    values = np.zeros((frames, 68), dtype=np.int32)
+    visemes = np.zeros((frames, 4), dtype=np.int32)
+    mask[:, 2], values[:, 2] = True, np.linspace(-500, 900, frames).round()
+    mask[10:, 0], visemes[10:25] = True, (3, 0, 63, 0)  # then viseme 0 (a decoder holds)
+    mask[20:25, 4], values[20:25, 4] = True, 150
+    mask[25:, 4], values[25:, 4] = True, -100  # FAP 5 without the viseme
+    path = tmp_path / "mix.fap"
+    mpeg4face.write_fap(mpeg4face.FapStream.from_arrays(
+        np.arange(frames), mask, values, visemes=visemes, frame_rate=30), str(path))
+    stream = mpeg4face.read_fap_stream(path)
+    reports = []
+    op = SimpleNamespace(report=lambda kind, text: reports.append(text))
+    bake.bake_stream(op, bpy.context, head, stream_data.grammar_keys(head), stream, 1, "HOLD")
+    assert any("differs from a decoder at 5 frames (21-25)" in r for r in reports), reports
+    baked = []
+    for k in range(frames):
+        bpy.context.scene.frame_set(1 + k)
+        baked.append(evaluated(head))
+    live_preview.start_live(head, bpy.context.scene, stream_data.grammar_keys(head), stream, 1,
+                            draw=False)
+    for k in range(frames):
+        bpy.context.scene.frame_set(1 + k)
+        live = live_coords(head)
+        if 20 <= k < 25:
+            assert np.abs(baked[k] - live).max() > 0.01, k  # the viseme added under FAP 5
+        else:
+            np.testing.assert_allclose(baked[k], live, atol=2e-5, err_msg=f"frame {k}")
 
 
 def test_live_preview_builds_the_tables_of_the_streams_faps_only(head, monkeypatch):

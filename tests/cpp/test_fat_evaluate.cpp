@@ -451,6 +451,45 @@ TEST(FatEvaluate, SixteenBitTablesFollowTheSameRules) {
   EXPECT_LE(largestError, 4 * 63.0 / 32768);
 }
 
+// Where priorityApplies says no, the result is the plain sum of the tables' motions (what
+// shape keys add up to); where it says yes, it is not.
+TEST(FatEvaluate, PriorityAppliesWhereALowLevelFapSharesAVisemesVertex) {
+  const MpegFace face = highLevelFace();  // FAP 3 moves vertex 1, FAP 4 vertex 3: both visemes'
+  const FatEvaluator eval(face, uniformFapu());
+  const auto sumOfTables = [&](const FapFrame& frame) {
+    Points3 p = face.faceSceneGraph.meshes[0].coord;
+    for (const FaceDefTables& t : face.faceDefTables) {
+      if (!frame.has(t.fapID)) continue;
+      const int value = tableInput(t.fapID, t.highLevelSelect, frame);
+      for (const FaceDefMesh& m : t.faceDefMesh) {
+        std::vector<double> w;
+        intervalWeights(m.intervalBorders, value, w);
+        for (std::size_t i = 0; i < m.coordIndex.size(); ++i) {
+          p.row(m.coordIndex[i]) +=
+              fapScale(uniformFapu(), t.fapID) * w[0] * m.displacements.row(i);
+        }
+      }
+    }
+    return p;
+  };
+  FapFrame frame;
+  frame.mask.set(0);
+  frame.viseme = {3, 0, 63, false};
+  EXPECT_FALSE(eval.priorityApplies(frame));  // a viseme alone
+  EXPECT_LE((eval.evaluate(frame).coord[0] - sumOfTables(frame)).cwiseAbs().maxCoeff(), 1e-4);
+  frame.set(3, 100);  // FAP 3 moves vertex 1, which the viseme moves too
+  EXPECT_TRUE(eval.priorityApplies(frame));
+  EXPECT_GT((eval.evaluate(frame).coord[0] - sumOfTables(frame)).cwiseAbs().maxCoeff(), 1);
+  frame.viseme = {0, 0, 63, false};  // viseme 0 (none): nothing to override
+  EXPECT_FALSE(eval.priorityApplies(frame));
+  frame.mask.reset(0);
+  frame.mask.set(1);                              // expression 1 moves vertex 1 too
+  frame.expression = {1, 0, 0, 0, false, false};  // ... at intensity 0
+  EXPECT_FALSE(eval.priorityApplies(frame));
+  frame.expression = {1, 20, 0, 0, false, false};
+  EXPECT_TRUE(eval.priorityApplies(frame));
+}
+
 TEST(FatEvaluate, LowLevelTranslationOverridesTheVisemesTranslation) {
   MpegFace face = highLevelFace();
   FaceDefTransform move;

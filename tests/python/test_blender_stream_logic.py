@@ -169,3 +169,9 @@ def test_animated_faps_are_the_sent_held_and_mirrored_ones():
     stream = mpeg4face.FapStream.from_arrays(np.arange(count, dtype=np.int32), mask, values,
                                              visemes=visemes)
     assert sl.animated_faps(stream) == {1, 19, 20}
+
+
+def test_frame_ranges():
+    assert sl.frame_ranges([3, 4, 5, 9, 11, 12]) == "3-5, 9, 11-12"
+    assert sl.frame_ranges([7]) == "7"
+    assert sl.frame_ranges([]) == ""

@@ -140,3 +140,10 @@ def test_fit_tables(tmp_path):
         mpeg4face.fit_preset("smile")
     with pytest.raises(mpeg4face.Error, match="bad.json"):
         mpeg4face.fit_table_from_json("{", "bad.json")
+
+
+def test_border_weights_are_the_fat_rule():
+    w = mpeg4face.border_weights([-1000, 0, 500, 1000], [600, -500, 1500])
+    np.testing.assert_allclose(w, [[0, 0, 0.8, 0.2], [0.5, 0.5, 0, 0], [0, 0, -1, 2]])
+    with pytest.raises(mpeg4face.Error, match="intervalBorders: borders must increase"):
+        mpeg4face.border_weights([0, 0], [1])

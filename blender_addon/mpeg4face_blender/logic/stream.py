@@ -66,21 +66,16 @@ def face_keys(names: Iterable[str]) -> FaceKeys:
 def border_weights(values: npt.ArrayLike, amplitudes: Sequence[int]) -> Array:
     """The weight of each amplitude's key for each value: (F, len(amplitudes)).
 
-    The FAT rule: the motion is piecewise linear in the FAP value between the borders
-    {0, amplitudes}; a value between borders b_i < b_i+1 gives the key at b_i 1 - t and the
-    key at b_i+1 t, t = (v - b_i) / (b_i+1 - b_i), the border 0 being the Basis. Beyond the
-    outermost border (either side) the outermost interval continues, t outside [0, 1]."""
+    The FAT rule through the core (mpeg4face.border_weights), the borders being {0,
+    amplitudes} (0: the Basis): a value between borders b_i < b_i+1 gives the key at b_i
+    1 - t and the key at b_i+1 t; beyond the outermost border the outermost interval
+    continues. Keys at the same amplitude each get that amplitude's weight."""
     v = np.asarray(values, dtype=np.float64).reshape(-1)
-    borders = np.unique(np.append(np.asarray(amplitudes, dtype=np.float64), 0.0))
-    weights = np.zeros((len(v), len(borders)))
-    if len(borders) > 1:
-        interval = np.clip(np.searchsorted(borders, v, side="right") - 1, 0, len(borders) - 2)
-        low, high = borders[interval], borders[interval + 1]
-        t = (v - low) / (high - low)
-        rows = np.arange(len(v))
-        weights[rows, interval] += 1.0 - t
-        weights[rows, interval + 1] += t
-    return weights[:, np.searchsorted(borders, np.asarray(amplitudes, dtype=np.float64))]
+    borders = sorted({0, *(int(a) for a in amplitudes)})
+    if len(borders) == 1:
+        return np.zeros((len(v), len(amplitudes)))
+    weights = mpeg4face.border_weights(borders, v)
+    return weights[:, [borders.index(int(a)) for a in amplitudes]]
 
 
 def viseme_weights(visemes: npt.ArrayLike, select: int) -> Array:
@@ -203,6 +198,16 @@ def bake(stream: mpeg4face.FapStream, keys: FaceKeys, fps: float, method: str = 
         missing.extend(f"{name} {s}" for s in sorted(selects - set(by_select)))
 
     return Bake(len(at), curves, sorted(baked), missing)
+
+
+def frame_ranges(frames: npt.ArrayLike) -> str:
+    """Increasing frame numbers as runs: [3, 4, 5, 9] -> "3-5, 9"."""
+    f = np.asarray(frames, dtype=np.int64).reshape(-1)
+    if not len(f):
+        return ""
+    breaks = np.flatnonzero(np.diff(f) != 1)
+    firsts, lasts = f[np.r_[0, breaks + 1]], f[np.r_[breaks, len(f) - 1]]
+    return ", ".join(str(a) if a == b else f"{a}-{b}" for a, b in zip(firsts, lasts))
 
 
 def widened_slider(current: tuple[float, float], values: tuple[float, float]

@@ -63,6 +63,26 @@ def is_live(obj: bpy.types.Object) -> bool:
                                  and LIVE_KEY in obj.data.shape_keys.key_blocks)
 
 
+def stream_face(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
+                stream: mpeg4face.FapStream) -> tuple[mpeg4face.FaceModel, dict]:
+    """The posed face model of the head `obj` (its grammar keys `keys`, its parts' and the
+    pose markers) and generate_face's result for it, for the FAPs the stream animates only:
+    the others cannot move the face while it plays, and reading their shape keys is most of
+    the cost. Raises mpeg4face.Error for a face the core refuses."""
+
+    def key_names(o: bpy.types.Object) -> list[str]:
+        return [k.name for k in (keys if o == obj else grammar_keys(o)).keys]
+
+    faps = stream_logic.animated_faps(stream)
+
+    def wanted(name: str) -> bool:
+        parsed = shape_keys.parse(name)
+        return parsed is None or parsed["fap"] in faps  # a malformed name: the core says why
+
+    model, _ = poses.read_posed_face_model(obj, key_names, scene, wanted=wanted)
+    return model, mpeg4face.generate_face(model)
+
+
 def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic.FaceKeys,
                stream: mpeg4face.FapStream, start: int, draw: bool | None = None) -> list[str]:
     """Builds the tables of the whole face for the FAPs the stream animates
@@ -81,20 +101,7 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
     stop_live(obj)
     objects = [obj, *poses.parts(obj)]
     _refuse_shared_meshes(objects)
-
-    def key_names(o: bpy.types.Object) -> list[str]:
-        return [k.name for k in (keys if o == obj else grammar_keys(o)).keys]
-
-    # Only the tables of the FAPs the stream animates: the others cannot move the face
-    # while it plays, and reading their shape keys is most of the start's cost.
-    faps = stream_logic.animated_faps(stream)
-
-    def wanted(name: str) -> bool:
-        parsed = shape_keys.parse(name)
-        return parsed is None or parsed["fap"] in faps  # a malformed name: the core says why
-
-    model, _ = poses.read_posed_face_model(obj, key_names, scene, wanted=wanted)
-    generated = mpeg4face.generate_face(model)
+    model, generated = stream_face(obj, scene, keys, stream)
     neutral = [t.local_matrix() for t in model.transforms]
     draw = not bpy.app.background if draw is None else draw
     drawn = live_draw.add_face(obj.name, objects) if draw else [None] * len(objects)

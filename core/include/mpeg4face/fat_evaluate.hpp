@@ -77,6 +77,12 @@ class FatEvaluator {
   void evaluate(const FapFrame& frame, FatState& state) const;
   FatState evaluate(const FapFrame& frame) const;
 
+  // Whether the low-level FAPs' priority changes `frame`'s result: a viseme or expression
+  // with a non-zero input moves a vertex or Transform field that a low-level FAP present in
+  // the frame also moves. Where it does not, the result is the plain sum of every table's
+  // motion, which shape keys weighted by borderWeights show exactly (the bake).
+  bool priorityApplies(const FapFrame& frame) const;
+
  private:
   using FapBits = std::bitset<kFapCount>;  // bit i: FAP i + 1
 

@@ -4,11 +4,12 @@ parts, reporting what was baked and what could not be; the import and speech ope
 bake through bake_stream()."""
 
 import bpy
+import numpy as np
 
 import mpeg4face
 
 from ...logic import stream as stream_logic
-from ...scene import bake_poses, poses, stream_data
+from ...scene import bake_poses, live_preview, poses, stream_data
 from ...scene.stream_data import grammar_keys
 from .. import text as ui_text
 
@@ -54,9 +55,9 @@ def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.typ
                         "baked nor live): " + ", ".join(sorted(missing, key=_fap_order)))
     if {stream_logic.VISEME_FAP, stream_logic.EXPRESSION_FAP} & baked and any(
             f >= 3 for f in baked):
-        problems.append("The bake adds the keys of low-level FAPs to those of visemes and "
-                        "expressions, where the standard lets the low-level FAPs override "
-                        "them: Live shows the exact result")
+        overridden = _priority_problem(obj, scene, keys, stream, start, result.frames, fps)
+        if overridden:
+            problems.append(overridden)
     for problem in problems:
         op.report({"WARNING"}, problem)
     poses_text = f"; poses of {', '.join(posed.keyed)} keyed" if posed.keyed else ""
@@ -68,6 +69,30 @@ def bake_stream(op: bpy.types.Operator, context: bpy.types.Context, obj: bpy.typ
     result.baked_faps = sorted(baked)
     result.missing = sorted(missing, key=_fap_order)
     return result
+
+
+def _priority_problem(obj: bpy.types.Object, scene: bpy.types.Scene,
+                      keys: stream_logic.FaceKeys, stream: mpeg4face.FapStream, start: int,
+                      frames: int, fps: float) -> str | None:
+    """Where the bake is not what a decoder shows: the scene frames at which a low-level FAP
+    present overrides a viseme or expression on vertices both move (the core's
+    priority_frames on the face's tables, each stream frame held until the next); shape
+    keys add there. None when there is no such frame."""
+    cannot = ("shape keys add, where the standard lets a low-level FAP override a viseme "
+              "or expression on the vertices both move: Live shows the exact result")
+    try:
+        _, generated = live_preview.stream_face(obj, scene, keys, stream)
+        evaluator = mpeg4face.FatEvaluator(generated["face"])
+    except mpeg4face.Error as error:
+        return f"The bake may differ from a decoder: {cannot} (no tables to say where: {error})"
+    overridden = evaluator.priority_frames(stream).astype(np.float64)
+    times = stream_logic.sample_times(stream.resolved()["frame_numbers"], stream.frame_rate)
+    at = stream_logic.resample(times, overridden, np.arange(frames) / fps, "HOLD")[:, 0]
+    scene_frames = start + np.flatnonzero(at > 0.5)
+    if not len(scene_frames):
+        return None
+    return (f"The bake differs from a decoder at {len(scene_frames)} frames "
+            f"({stream_logic.frame_ranges(scene_frames)}): {cannot}")
 
 
 def _fap_order(text: str) -> tuple[str, int]:
