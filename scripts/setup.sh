@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev libtinygltf-dev nlohmann-json3-dev libgtest-dev
   libopenmesh-dev                           # mesh_resample: decimation and subdivision
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
+  python3-mypy                              # stubtest: the .pyi stubs against the module (tests/python/test_stubs.py)
   python3-matplotlib                        # rate-distortion plots (scripts/rd_plot.py), clone grid (scripts/clone_grid.py)
   blender xvfb xauth                        # the add-on, headless and under a virtual display
   nodejs npm                                # gltf-validator
