@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The documentation stays true: the CLI reference is the program's own help, and every
-relative link in README.md and docs/ points at a file that exists."""
+"""The documentation stays true: the CLI reference is the program's own help, every
+relative link in README.md and docs/ points at a file that exists, and the index
+(docs/README.md) lists every page."""
 
 from __future__ import annotations
 
@@ -31,3 +32,10 @@ def test_relative_links_resolve():
             if not (page.parent / target).exists():
                 broken.append(f"{page.relative_to(ROOT)}: {target}")
     assert not broken, "broken links:\n" + "\n".join(broken)
+
+
+def test_the_index_lists_every_page():
+    index = ROOT / "docs/README.md"
+    listed = set(re.findall(r"\]\(([^)\s#]+\.md)", index.read_text()))
+    pages = {p.name for p in (ROOT / "docs").glob("*.md")} - {"README.md"}
+    assert pages - listed == set(), f"not in {index.relative_to(ROOT)}: {sorted(pages - listed)}"
