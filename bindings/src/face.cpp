@@ -224,7 +224,7 @@ void bindEvaluator(py::module_& m) {
         }
         FapState resolved;
         for (std::size_t i = 0; i <= index; ++i) applyFrame(resolved, stream.frames[i]);
-        self.evaluator.evaluate(resolvedFrame(resolved), self.state);
+        self.evaluator.evaluate(resolved, self.state);
         return stateToPython(self.state);
       },
       "stream"_a, "index"_a,
@@ -242,8 +242,7 @@ void bindEvaluator(py::module_& m) {
         const std::vector<FapState> states = resolveFapStream(stream);
         py::array_t<bool> out(static_cast<py::ssize_t>(states.size()));
         for (std::size_t i = 0; i < states.size(); ++i) {
-          out.mutable_at(static_cast<py::ssize_t>(i)) =
-              self.evaluator.priorityApplies(resolvedFrame(states[i]));
+          out.mutable_at(static_cast<py::ssize_t>(i)) = self.evaluator.priorityApplies(states[i]);
         }
         return out;
       },

@@ -192,8 +192,7 @@ void bindFapStream(py::module_& m) {
         for (std::size_t i = 0; i < states.size(); ++i) numbers.mutable_at(i) = states[i].number;
         out["frame_numbers"] = numbers;
         out["active"] = rowsOf<bool>(states.size(), kFaps, [&](std::size_t i, bool* row) {
-          for (int f = 0; f < kFapCount; ++f)
-            row[f] = states[i].active[static_cast<std::size_t>(f)];
+          for (int f = 0; f < kFapCount; ++f) row[f] = states[i].mask[static_cast<std::size_t>(f)];
         });
         out["values"] = rowsOf<int32_t>(states.size(), kFaps, [&](std::size_t i, int32_t* row) {
           for (int f = 2; f < kFapCount; ++f)

@@ -195,7 +195,7 @@ int runApply(const std::vector<std::string>& rawArgs) {
                 "no frame numbered " + std::to_string(*args.frame) + " in the stream");
   }
   const FatEvaluator evaluator(face, fapu);
-  const FatState animated = evaluator.evaluate(resolvedFrame(*state));
+  const FatState animated = evaluator.evaluate(*state);
   FaceModel model = face.faceSceneGraph;
   for (size_t m = 0; m < model.meshes.size(); ++m) model.meshes[m].coord = animated.coord[m];
   model.transforms = animated.transforms;

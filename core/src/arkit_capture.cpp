@@ -570,7 +570,7 @@ LiveLinkCapture fapsToArkit(const FapStream& stream, const ArkitCaptureFace& fac
   for (Eigen::Index f = 0; f < frames; ++f) {
     const FapFrame& sent = stream.frames[static_cast<std::size_t>(f)];
     applyFrame(resolved, sent);
-    const FapFrame frame = resolvedFrame(resolved);
+    const FapFrame& frame = resolved;
     capture.times.push_back(std::max(0.0, frameTime(stream, sent)));
     if (evaluator) {
       evaluator->evaluate(frame, state);

@@ -330,8 +330,8 @@ void addHighLevelKeys(ArkitKeys& out, const FaceModel& localised, const ArkitKey
   std::vector<MorphWeightAnimation> poses;
   for (auto& [name, frame] : frames) {
     FapState state;
-    applyFrame(state, frame);  // the left/right partners of what the preset gives
-    FapFrame resolved = resolvedFrame(state);
+    applyFrame(state, frame);   // the left/right partners of what the preset gives
+    FapFrame resolved = state;  // a copy of the frame part, changed below
     // The shapes reach no further than the keys: a value past a key's amplitude is held at
     // it, and one of a sign without a key is 0 (its table would run the shapes backwards).
     for (int f = 3; f <= kFapCount; ++f) {

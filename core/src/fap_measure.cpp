@@ -71,7 +71,7 @@ FapComparison compareFapStreams(const FapStream& original, const FapStream& deco
   for (size_t i = 0; i < original.frames.size(); ++i) {
     applyFrame(a, original.frames[i]);
     applyFrame(b, decoded.frames[i]);
-    decodedEver |= b.active;
+    decodedEver |= b.mask;
     if (a.sent(1) && (!b.has(1) || b.viseme != a.viseme)) ++out.visemeMismatches;
     if (a.sent(2) && (!b.has(2) || b.expression != a.expression)) ++out.expressionMismatches;
     for (int fap = 3; fap <= kFapCount; ++fap) {

@@ -45,8 +45,8 @@ FeaturePointMotionError featurePointMotionError(const MpegFace& face, const FapS
   for (size_t k = 0; k < original.frames.size(); ++k) {
     applyFrame(sa, original.frames[k]);
     applyFrame(sb, decoded.frames[k]);
-    evaluator.evaluate(resolvedFrame(sa), a);
-    evaluator.evaluate(resolvedFrame(sb), b);
+    evaluator.evaluate(sa, a);
+    evaluator.evaluate(sb, b);
     positions(a, pa);
     positions(b, pb);
     for (size_t p = 0; p < points.size(); ++p) {

@@ -56,7 +56,7 @@ int fapMirror(int fap) {
 }
 
 void applyFrame(FapState& state, const FapFrame& frame) {
-  std::bitset<kFapCount> sent = (state.active & ~state.mirrored) | frame.mask;
+  std::bitset<kFapCount> sent = (state.mask & ~state.mirrored) | frame.mask;
   state.number = frame.number;
   if (frame.has(1)) state.viseme = frame.viseme;
   if (frame.has(2)) state.expression = frame.expression;
@@ -71,7 +71,7 @@ void applyFrame(FapState& state, const FapFrame& frame) {
     state.values[i] = state.values[static_cast<size_t>(partner - 1)];
     state.mirrored.set(i);
   }
-  state.active = sent | state.mirrored;
+  state.mask = sent | state.mirrored;
 }
 
 std::vector<FapState> resolveFapStream(const FapStream& stream) {
@@ -83,16 +83,6 @@ std::vector<FapState> resolveFapStream(const FapStream& stream) {
     out.push_back(state);
   }
   return out;
-}
-
-FapFrame resolvedFrame(const FapState& state) {
-  FapFrame f;
-  f.number = state.number;
-  f.mask = state.active;
-  f.values = state.values;
-  f.viseme = state.viseme;
-  f.expression = state.expression;
-  return f;
 }
 
 }  // namespace mpeg4face

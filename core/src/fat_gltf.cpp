@@ -463,7 +463,7 @@ MorphWeightAnimation bakeFapStream(const MpegFace& face, const FapuMeasurement& 
   std::vector<double> interval;
   double previous = -1;
   for (size_t f = 0; f < stream.frames.size(); ++f) {
-    const FapFrame frame = resolvedFrame(states[f]);
+    const FapFrame& frame = states[f];
     const double time = frameTime(stream, stream.frames[f]);
     if (!(time > previous)) {
       fail("frames[" + str(f) + "].number", "FAP stream '" + stream.name + "': frame number " +

@@ -30,27 +30,6 @@ bool validNode(const FitTable& table, int node) {
 // Whether FAP `fap` of the frame, or its FAP 1 / 2 part, is there to compute from.
 bool available(const FapFrame& frame, int fap) { return frame.has(fap); }
 
-double variableValue(const FapFrame& frame, int variable) {
-  switch (variable) {
-    case kVisemeSelect1:
-      return frame.viseme.select1;
-    case kVisemeSelect2:
-      return frame.viseme.select2;
-    case kVisemeBlend:
-      return frame.viseme.blend;
-    case kExpressionSelect1:
-      return frame.expression.select1;
-    case kExpressionSelect2:
-      return frame.expression.select2;
-    case kExpressionIntensity1:
-      return frame.expression.intensity1;
-    case kExpressionIntensity2:
-      return frame.expression.intensity2;
-    default:
-      return frame.value(variable);
-  }
-}
-
 double power(double base, int exponent) {
   double out = 1;
   for (int i = 0; i < exponent; ++i) out *= base;
@@ -109,6 +88,27 @@ std::bitset<kFapCount> closure(const FitTable& table, std::bitset<kFapCount> hav
 }
 
 }  // namespace
+
+double fitVariableValue(const FapFrame& frame, int variable) {
+  switch (variable) {
+    case kVisemeSelect1:
+      return frame.viseme.select1;
+    case kVisemeSelect2:
+      return frame.viseme.select2;
+    case kVisemeBlend:
+      return frame.viseme.blend;
+    case kExpressionSelect1:
+      return frame.expression.select1;
+    case kExpressionSelect2:
+      return frame.expression.select2;
+    case kExpressionIntensity1:
+      return frame.expression.intensity1;
+    case kExpressionIntensity2:
+      return frame.expression.intensity2;
+    default:
+      return frame.value(variable);
+  }
+}
 
 std::string fitVariableName(int variable) {
   switch (variable) {
@@ -341,7 +341,7 @@ int interpolateFitFrame(const FitTable& table, FapFrame& frame) {
         }
         const std::vector<int> variables = fitVariables(parent);
         std::vector<double> values;
-        for (int v : variables) values.push_back(variableValue(frame, v));
+        for (int v : variables) values.push_back(fitVariableValue(frame, v));
         // Computed together: a FAP of this node computed first is not an input of the others.
         std::vector<std::pair<int, int>> results;
         for (std::size_t i = 0; i < faps.size(); ++i) {

@@ -38,27 +38,6 @@ std::vector<std::vector<int>> monomials(int n, int degree) {
   return out;
 }
 
-double variableOf(const FapState& s, int variable) {
-  switch (variable) {
-    case kVisemeSelect1:
-      return s.viseme.select1;
-    case kVisemeSelect2:
-      return s.viseme.select2;
-    case kVisemeBlend:
-      return s.viseme.blend;
-    case kExpressionSelect1:
-      return s.expression.select1;
-    case kExpressionSelect2:
-      return s.expression.select2;
-    case kExpressionIntensity1:
-      return s.expression.intensity1;
-    case kExpressionIntensity2:
-      return s.expression.intensity2;
-    default:
-      return s.value(variable);
-  }
-}
-
 // Least squares with columns scaled to unit largest magnitude (monomials of FAP values span
 // many orders of magnitude). Returns the coefficients and the residual RMS.
 std::pair<Eigen::VectorXd, double> leastSquares(Eigen::MatrixXd a, const Eigen::VectorXd& b) {
@@ -120,7 +99,7 @@ std::vector<FitFunctionFit> learnFitTable(FitTable& table, std::span<const FapSt
             for (const auto& e : basis) {
               double m = 1;
               for (std::size_t v = 0; v < e.size(); ++v) {
-                m *= std::pow(variableOf(s, variables[v]), e[v]);
+                m *= std::pow(fitVariableValue(s, variables[v]), e[v]);
               }
               row.push_back(m);
             }

@@ -394,7 +394,7 @@ class Checker {
       std::optional<FapFrame> previous;
       bool first = true;
       for (const FapState& fapState : resolveFapStream(stream)) {
-        const FapFrame frame = resolvedFrame(fapState);
+        const FapFrame& frame = fapState;
         const std::string name = summary.name + " frame " + std::to_string(fapState.number);
         PoseMotion pose;
         if (previous && *previous == frame) {

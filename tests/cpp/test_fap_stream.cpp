@@ -79,7 +79,7 @@ TEST(FapStream, UnsentFapsKeepTheirLastValue) {
   EXPECT_TRUE(r[1].sent(3));
   EXPECT_EQ(r[2].value(3), -20);
   EXPECT_EQ(r[2].value(4), 5);
-  EXPECT_EQ(r[2].active.count(), 2u);
+  EXPECT_EQ(r[2].mask.count(), 2u);
   EXPECT_FALSE(r[2].has(5));
 }
 
@@ -128,7 +128,7 @@ TEST(FapStream, XfaceStreamsSendBothSidesOrNeither) {
   const std::vector<FapState> r = mpeg4face::resolveFapStream(s);
   ASSERT_EQ(r.size(), s.frames.size());
   for (size_t i = 0; i < r.size(); ++i) {
-    EXPECT_EQ(r[i].active, s.frames[i].mask) << i;
+    EXPECT_EQ(r[i].mask, s.frames[i].mask) << i;
     EXPECT_EQ(r[i].mirrored.count(), 0u) << i;
     for (int fap = 3; fap <= 68; ++fap) {
       if (s.frames[i].has(fap)) {

@@ -449,7 +449,7 @@ TEST(Speech, TextWithABookmarkAnimatesAFace) {
   std::vector<double> opening;
   int smiling = 0, firstSmile = -1;
   for (const FapState& state : states) {
-    const FatState animated = eval.evaluate(resolvedFrame(state));
+    const FatState animated = eval.evaluate(state);
     opening.push_back(mouthOpening(animated, face.faceSceneGraph));
     if (state.has(2) && state.expression.intensity1 > 0) {
       ++smiling;

@@ -84,18 +84,14 @@ int fapMirror(int fap);
 //   (stretch_l: left, stretch_r: right); for eyeball yaw (both: left) they keep the gaze
 //   parallel. Once the FAP itself is sent, its own value holds from then on;
 // - FAPs never sent (and without a sent partner) are inactive: the neutral face.
-struct FapState {
-  int number = 0;                       // frame number of the frame last applied
-  std::bitset<kFapCount> active;        // FAP i + 1 has a value: sent so far, or mirrored
-  std::bitset<kFapCount> mirrored;      // active only through its partner (never sent itself)
-  std::array<int, kFapCount> values{};  // FAPU; 0 for inactive FAPs; entries 0, 1 unused
-  Viseme viseme;                        // valid if active[0]
-  Expression expression;                // valid if active[1]
+// A FapState is a frame that sends every active FAP (what an evaluator takes): number is
+// the frame last applied, mask the active FAPs (sent so far, or mirrored), values their
+// current values (0 for inactive FAPs), viseme / expression valid where mask[0] / mask[1].
+struct FapState : FapFrame {
+  std::bitset<kFapCount> mirrored;  // active only through its partner (never sent itself)
 
-  bool has(int fap) const { return active[static_cast<size_t>(fap - 1)]; }
   // Sent in this or an earlier frame (active and not mirrored).
   bool sent(int fap) const { return has(fap) && !mirrored[static_cast<size_t>(fap - 1)]; }
-  int value(int fap) const { return values[static_cast<size_t>(fap - 1)]; }
   bool operator==(const FapState&) const = default;
 };
 
@@ -104,7 +100,5 @@ struct FapState {
 void applyFrame(FapState& state, const FapFrame& frame);
 // The resolved state after each frame of the stream (one per frame).
 std::vector<FapState> resolveFapStream(const FapStream& stream);
-// A resolved state as a frame that sends every active FAP (what an evaluator takes).
-FapFrame resolvedFrame(const FapState& state);
 
 }  // namespace mpeg4face

@@ -30,6 +30,8 @@ enum FitVariable : int {
 };
 // "viseme_select1", ..., or the FAP's standard name for 3..68.
 std::string fitVariableName(int variable);
+// The value of a variable in a frame (a FapState too: its current values).
+double fitVariableValue(const FapFrame& frame, int variable);
 // The variables of a FAP set in node order (FAP 1 and 2 expanded as above).
 std::vector<int> fitVariables(const std::vector<int>& faps);
 
