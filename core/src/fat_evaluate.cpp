@@ -281,7 +281,7 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu, Fa
           }
         }
       }
-      if (storage == FatStorage::Int16) {
+      if (storage == FatStorage::Int16 && count > 0) {  // an empty table stores nothing
         m.slope16.resize(m.slope.size());
         m.base16.resize(m.base.size());
         for (std::size_t j = 0; j < n; ++j) {

@@ -453,6 +453,25 @@ TEST(FatEvaluate, SixteenBitTablesFollowTheSameRules) {
 
 // Where priorityApplies says no, the result is the plain sum of the tables' motions (what
 // shape keys add up to); where it says yes, it is not.
+// A FaceDefMesh that lists no vertex moves nothing in either storage (found by fuzz_fat: the
+// 16-bit tables were made from an empty array).
+TEST(FatEvaluate, AnEmptyFaceDefMeshMovesNothing) {
+  MpegFace face = highLevelFace();
+  FaceDefTables empty;
+  empty.fapID = 6;
+  FaceDefMesh m;
+  m.mesh = 0;
+  m.intervalBorders = {-100, 0, 50, 100};
+  m.displacements.resize(0, 3);
+  empty.faceDefMesh.push_back(m);
+  face.faceDefTables.push_back(empty);
+  for (FatStorage storage : {FatStorage::Float, FatStorage::Int16}) {
+    const FatEvaluator eval(face, uniformFapu(), storage);
+    const FatState s = eval.evaluate(frameWith({{6, 80}}));
+    EXPECT_EQ(s.coord[0], face.faceSceneGraph.meshes[0].coord);
+  }
+}
+
 TEST(FatEvaluate, PriorityAppliesWhereALowLevelFapSharesAVisemesVertex) {
   const MpegFace face = highLevelFace();  // FAP 3 moves vertex 1, FAP 4 vertex 3: both visemes'
   const FatEvaluator eval(face, uniformFapu());
