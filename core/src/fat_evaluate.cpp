@@ -235,11 +235,10 @@ FatEvaluator::FatEvaluator(const MpegFace& face, const FapuMeasurement& fapu, Fa
         m.slot.push_back(static_cast<std::uint32_t>(firstSlot[src.mesh] + v));
       }
       for (std::size_t e = 0; e < count; ++e) {
-        const std::uint32_t s = m.slot[e];
-        if (e > 0 && s == m.slot[e - 1] + 1) {
+        if (e > 0 && m.slot[e] == m.slot[e - 1] + 1) {
           ++m.runs.back().second;
         } else {
-          m.runs.emplace_back(s, 1);
+          m.runs.emplace_back(m.slot[e], 1);
         }
       }
       if (m.runs.size() * kMinRun > count) m.runs.clear();

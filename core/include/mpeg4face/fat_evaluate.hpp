@@ -101,8 +101,8 @@ class FatEvaluator {
     int zeroIndex = 0;  // index of the 0 border (multi-interval)
     std::vector<Interval> intervals;
     std::vector<std::uint32_t> slot;  // each entry's vertex slot in FatState::work
-    // Entries whose slots follow one another (coordIndex runs like 17 18 19), in entry
-    // order as (first slot, length), when they are long enough to pay: empty otherwise.
+    // Entries whose slots follow one another (coordIndex runs like 17 18 19), as (first
+    // slot, length) in entry order, when they are long enough to pay: empty otherwise.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> runs;
     // Interval j's x, y, z of entry e at 3 * (j * slot.size() + e) + 0, 1, 2; base likewise
     // from Interval::baseOffset; interleaved like FatState::work, so that runs are flat

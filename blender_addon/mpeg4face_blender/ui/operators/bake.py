@@ -86,7 +86,7 @@ def _priority_problem(obj: bpy.types.Object, scene: bpy.types.Scene,
     except mpeg4face.Error as error:
         return f"The bake may differ from a decoder: {cannot} (no tables to say where: {error})"
     overridden = evaluator.priority_frames(stream).astype(np.float64)
-    times = stream_logic.sample_times(stream.resolved()["frame_numbers"], stream.frame_rate)
+    times = stream_logic.sample_times(stream.frame_numbers, stream.frame_rate)
     at = stream_logic.resample(times, overridden, np.arange(frames) / fps, "HOLD")[:, 0]
     scene_frames = start + np.flatnonzero(at > 0.5)
     if not len(scene_frames):
