@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "arkit_test_head.hpp"
-#include "mpeg4face/arkit.hpp"
-#include "mpeg4face/fapu.hpp"
+#include "mpeg4face/arkit/shapes.hpp"
+#include "mpeg4face/model/fapu.hpp"
 
 using namespace mpeg4face;
 

@@ -13,9 +13,9 @@
 #include <functional>
 #include <vector>
 
-#include "mpeg4face/arkit_capture.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/livelink.hpp"
+#include "mpeg4face/arkit/capture.hpp"
+#include "mpeg4face/io/livelink.hpp"
+#include "mpeg4face/io/read_any.hpp"
 
 using namespace mpeg4face;
 

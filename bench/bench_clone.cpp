@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "clone_fixture.hpp"
-#include "mpeg4face/clone.hpp"
+#include "mpeg4face/clone/clone.hpp"
 
 using namespace mpeg4face;
 namespace fixture = mpeg4face::clone_fixture;

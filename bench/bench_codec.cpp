@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "mpeg4face/fba_codec.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/spec.hpp"
 
 namespace {

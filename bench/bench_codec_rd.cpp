@@ -4,7 +4,7 @@
 // robust PSNR reaches 20, 25, 30 and 35 dB, and the same for Tao et al.'s eq. (8), on the nine
 // Xface streams (tests/data/xface-fap, pooled: their bits summed over their samples summed)
 // and on the two long 30 Hz streams (tests/data/long-30hz). Each mode is swept over its whole
-// fap_quant range, as `mpeg4face rd` does (fap_rd.hpp). The figures before this work
+// fap_quant range, as `mpeg4face rd` does (codec/rd.hpp). The figures before this work
 // (cheapest at 25 dB robust: 2.09 on Xface, 1.62 on a long stream) are printed beside them.
 #include <array>
 #include <cstdio>
@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fap_measure.hpp"
-#include "mpeg4face/fap_rd.hpp"
+#include "mpeg4face/codec/measure.hpp"
+#include "mpeg4face/codec/rd.hpp"
+#include "mpeg4face/io/fap_file.hpp"
 
 namespace {
 

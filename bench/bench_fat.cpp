@@ -15,8 +15,8 @@
 #include <random>
 #include <vector>
 
-#include "mpeg4face/fat_evaluate.hpp"
-#include "mpeg4face/fat_generate.hpp"
+#include "mpeg4face/fat/evaluate.hpp"
+#include "mpeg4face/fat/generate.hpp"
 
 using namespace mpeg4face;
 

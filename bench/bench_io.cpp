@@ -8,8 +8,8 @@
 #include <functional>
 #include <vector>
 
-#include "mpeg4face/gltf.hpp"
-#include "mpeg4face/obj.hpp"
+#include "mpeg4face/io/gltf.hpp"
+#include "mpeg4face/io/obj.hpp"
 
 namespace {
 

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "mesh2d_fixture.hpp"
-#include "mpeg4face/mesh2d_codec.hpp"
-#include "mpeg4face/mesh2d_warp.hpp"
+#include "mpeg4face/mesh2d/codec.hpp"
+#include "mpeg4face/mesh2d/warp.hpp"
 
 int main() {
   using namespace mpeg4face;

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/motion_check.hpp"
+#include "mpeg4face/fat/motion_check.hpp"
+#include "mpeg4face/io/read_any.hpp"
 
 int main(int argc, char** argv) {
   constexpr int kRuns = 5;

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fap_rd.hpp"
-#include "mpeg4face/fba_codec.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
+#include "mpeg4face/codec/rd.hpp"
+#include "mpeg4face/io/fap_file.hpp"
 
 namespace {
 

@@ -38,7 +38,7 @@ from mpeg4face_blender.scene import poses  # noqa: E402
 
 def arkit_name(name: str) -> str:
     """A shape-key or Live Link Face channel name reduced to compare them: EyeBlinkLeft,
-    eyeBlink_L -> eyeblinkleft (as arkit_capture.cpp matches them)."""
+    eyeBlink_L -> eyeblinkleft (as arkit/capture.cpp matches them)."""
     lower = name.lower()
     lower = re.sub(r"_l$", "left", re.sub(r"_r$", "right", lower))
     return re.sub(r"[-_ ]", "", lower)

@@ -3,7 +3,7 @@
 """Draws the feature-point triangulation of Facial Motion Cloning (docs/clone.md).
 
 The triangles, the required points and the lip contours are read from
-core/src/clone_feature_points.cpp (the one place they are written); the points are placed where
+core/src/clone/feature_points.cpp (the one place they are written); the points are placed where
 CANDIDE-3 has them (tests/data/candide3), seen from the front.
 
     /usr/bin/python3 scripts/clone_triangulation_plot.py [OUT.png]
@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-SOURCE = ROOT / "core/src/clone_feature_points.cpp"
+SOURCE = ROOT / "core/src/clone/feature_points.cpp"
 CANDIDE = ROOT / "tests/data/candide3"
 
 

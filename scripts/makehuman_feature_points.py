@@ -3,7 +3,7 @@
 """Picks the MPEG-4 feature points of the MakeHuman hm08 base mesh.
 
 Writes tests/data/makehuman/feature_points.csv (OBJ vertex numbers, counted from 0 as
-feature_point_csv.hpp reads them, or a free coordinate) and, with --plot,
+io/feature_point_csv.hpp reads them, or a free coordinate) and, with --plot,
 docs/images/makehuman_feature_points.png (front and side view with the points labelled).
 Every point comes from a geometric rule on the mesh (docs/makehuman-head.md lists them);
 the few that are hand-picked say how they were checked. The script asserts what the rules

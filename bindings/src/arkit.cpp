@@ -2,13 +2,12 @@
 // ARKit blendshapes as a source of MPEG-4 motion (docs/arkit.md): the names, a head's ARKit
 // shapes, the ARKit -> FAP mapping measured on it, and the head with FAP, viseme and
 // expression keys. Results are plain dicts and lists.
-#include "mpeg4face/arkit.hpp"
-
 #include <string>
 #include <utility>
 
 #include "bindings.hpp"
-#include "mpeg4face/fat_names.hpp"
+#include "mpeg4face/arkit/shapes.hpp"
+#include "mpeg4face/fat/names.hpp"
 #include "mpeg4face/spec.hpp"
 
 namespace mpeg4face::python {

@@ -19,8 +19,8 @@
 #include <string>
 #include <string_view>
 
-#include "mpeg4face/face_model.hpp"
-#include "mpeg4face/wfm.hpp"
+#include "mpeg4face/io/wfm.hpp"
+#include "mpeg4face/model/face_model.hpp"
 
 namespace mpeg4face::python {
 

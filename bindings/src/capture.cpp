@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Face captures: Live Link Face CSV, ARKit weights to FAP streams and back (livelink.hpp,
-// arkit_capture.hpp).
+// Face captures: Live Link Face CSV, ARKit weights to FAP streams and back (io/livelink.hpp,
+// arkit/capture.hpp).
+#include "mpeg4face/arkit/capture.hpp"
+
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
 #include <pybind11/stl/filesystem.h>
@@ -9,8 +11,7 @@
 #include <memory>
 
 #include "bindings.hpp"
-#include "mpeg4face/arkit_capture.hpp"
-#include "mpeg4face/livelink.hpp"
+#include "mpeg4face/io/livelink.hpp"
 
 namespace mpeg4face::python {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The motion check (motion_check.hpp): a head's shape keys, or a face's tables, and FAP
+// The motion check (fat/motion_check.hpp): a head's shape keys, or a face's tables, and FAP
 // streams played on them, measured against the neutral. The result is plain dicts and lists
 // with the same keys as `mpeg4face check --json`.
 #include <pybind11/functional.h>
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "bindings.hpp"
-#include "mpeg4face/fat.hpp"
-#include "mpeg4face/motion_check.hpp"
+#include "mpeg4face/fat/motion_check.hpp"
+#include "mpeg4face/fat/tables.hpp"
 
 namespace mpeg4face::python {
 namespace {

@@ -11,17 +11,17 @@
 #include <utility>
 
 #include "bindings.hpp"
-#include "mpeg4face/clone.hpp"
+#include "mpeg4face/clone/clone.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fat.hpp"
-#include "mpeg4face/fat_evaluate.hpp"
-#include "mpeg4face/fat_generate.hpp"
-#include "mpeg4face/fat_gltf.hpp"
-#include "mpeg4face/fat_names.hpp"
-#include "mpeg4face/fit.hpp"
-#include "mpeg4face/fit_json.hpp"
-#include "mpeg4face/fit_presets.hpp"
-#include "mpeg4face/vrml.hpp"
+#include "mpeg4face/fat/evaluate.hpp"
+#include "mpeg4face/fat/generate.hpp"
+#include "mpeg4face/fat/names.hpp"
+#include "mpeg4face/fat/tables.hpp"
+#include "mpeg4face/fit/fit.hpp"
+#include "mpeg4face/fit/json.hpp"
+#include "mpeg4face/fit/presets.hpp"
+#include "mpeg4face/io/fat_gltf.hpp"
+#include "mpeg4face/io/vrml.hpp"
 
 namespace mpeg4face::python {
 namespace {

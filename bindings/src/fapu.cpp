@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // FAPU measurement and the feature-point location constraints.
-#include "mpeg4face/fapu.hpp"
+#include "mpeg4face/model/fapu.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -6,11 +6,11 @@
 #include <utility>
 
 #include "bindings.hpp"
-#include "mpeg4face/feature_point_csv.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/gltf.hpp"
-#include "mpeg4face/obj.hpp"
-#include "mpeg4face/wfm.hpp"
+#include "mpeg4face/io/feature_point_csv.hpp"
+#include "mpeg4face/io/gltf.hpp"
+#include "mpeg4face/io/obj.hpp"
+#include "mpeg4face/io/read_any.hpp"
+#include "mpeg4face/io/wfm.hpp"
 
 namespace mpeg4face::python {
 namespace {

@@ -9,12 +9,13 @@
 
 #include "bindings.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/mesh2d_codec.hpp"
-#include "mpeg4face/mesh2d_design.hpp"
-#include "mpeg4face/mesh2d_json.hpp"
-#include "mpeg4face/mesh2d_portrait.hpp"
-#include "mpeg4face/mesh2d_render.hpp"
+#include "mpeg4face/io/files.hpp"
+#include "mpeg4face/io/read_any.hpp"
+#include "mpeg4face/mesh2d/codec.hpp"
+#include "mpeg4face/mesh2d/design.hpp"
+#include "mpeg4face/mesh2d/json.hpp"
+#include "mpeg4face/mesh2d/portrait.hpp"
+#include "mpeg4face/mesh2d/render.hpp"
 
 namespace mpeg4face::python {
 namespace {

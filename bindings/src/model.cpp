@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "bindings.hpp"
-#include "mpeg4face/mesh_cut.hpp"
+#include "mpeg4face/model/mesh_cut.hpp"
 
 namespace mpeg4face::python {
 namespace {

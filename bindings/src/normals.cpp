@@ -5,7 +5,7 @@
 
 #include "bindings.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/vertex_normals.hpp"
+#include "mpeg4face/model/vertex_normals.hpp"
 
 namespace mpeg4face::python {
 

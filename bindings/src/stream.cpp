@@ -12,14 +12,15 @@
 #include <string>
 
 #include "bindings.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
+#include "mpeg4face/codec/measure.hpp"
+#include "mpeg4face/codec/rd.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fap_measure.hpp"
-#include "mpeg4face/fap_rd.hpp"
-#include "mpeg4face/fap_stream.hpp"
-#include "mpeg4face/fba_codec.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/speech.hpp"
+#include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/files.hpp"
+#include "mpeg4face/io/read_any.hpp"
+#include "mpeg4face/speech/speech.hpp"
+#include "mpeg4face/stream/fap_stream.hpp"
 
 namespace mpeg4face::python {
 namespace {

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mpeg4face arkit`: ARKit heads and captures in MPEG-4. `arkit keys` gives a head with
 // ARKit blendshapes its FAP, viseme and expression keys (docs/arkit.md).
-#include "mpeg4face/arkit.hpp"
-
 #include <cstdio>
 #include <optional>
 #include <set>
@@ -10,11 +8,12 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "mpeg4face/arkit/shapes.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fat_names.hpp"
-#include "mpeg4face/feature_point_csv.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/gltf.hpp"
+#include "mpeg4face/fat/names.hpp"
+#include "mpeg4face/io/feature_point_csv.hpp"
+#include "mpeg4face/io/gltf.hpp"
+#include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/spec.hpp"
 #include "paths.hpp"
 

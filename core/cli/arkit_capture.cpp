@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mpeg4face arkit to-fap` and `mpeg4face arkit from-fap`: Live Link Face captures (ARKit
 // weights) to FAP streams and back, through a face with ARKit shapes (docs/arkit.md).
-#include "mpeg4face/arkit_capture.hpp"
-
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -10,10 +8,11 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "mpeg4face/arkit/capture.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/livelink.hpp"
+#include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/livelink.hpp"
+#include "mpeg4face/io/read_any.hpp"
 
 namespace mpeg4face::cli {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// `mpeg4face check`: the motion check (motion_check.hpp) of a head's shape keys and of FAP
+// `mpeg4face check`: the motion check (fat/motion_check.hpp) of a head's shape keys and of FAP
 // streams played on it, as a summary a person reads at a glance or as JSON.
 #include <unistd.h>
 
@@ -13,9 +13,9 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/motion_check.hpp"
-#include "mpeg4face/vrml.hpp"
+#include "mpeg4face/fat/motion_check.hpp"
+#include "mpeg4face/io/read_any.hpp"
+#include "mpeg4face/io/vrml.hpp"
 #include "paths.hpp"
 
 namespace mpeg4face::cli {

@@ -2,7 +2,7 @@
 // `mpeg4face clone`: Facial Motion Cloning (Pandzic 2003) from a face with tables or named
 // shape keys to a neutral face with feature points; the result is the target with its own
 // FaceDefTables.
-#include "mpeg4face/clone.hpp"
+#include "mpeg4face/clone/clone.hpp"
 
 #include <unistd.h>
 
@@ -17,11 +17,11 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fat_gltf.hpp"
-#include "mpeg4face/fat_names.hpp"
-#include "mpeg4face/feature_point_csv.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/vrml.hpp"
+#include "mpeg4face/fat/names.hpp"
+#include "mpeg4face/io/fat_gltf.hpp"
+#include "mpeg4face/io/feature_point_csv.hpp"
+#include "mpeg4face/io/read_any.hpp"
+#include "mpeg4face/io/vrml.hpp"
 #include "paths.hpp"
 
 namespace mpeg4face::cli {
@@ -100,7 +100,7 @@ Source tablesSource(MpegFace face, const FapuMeasurement& fapu, const std::strin
 }
 
 // A .wrl with tables; a glTF written with tables (writeFatGltf), else a glTF head whose
-// shape keys are named copies (fat_names.hpp).
+// shape keys are named copies (fat/names.hpp).
 Source readSource(const Args& args, std::vector<std::string>& warnings) {
   const std::string& path = args.source;
   if (!isGltf(path)) {

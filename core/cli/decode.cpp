@@ -6,10 +6,10 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fba_codec.hpp"
-#include "mpeg4face/fit.hpp"
+#include "mpeg4face/fit/fit.hpp"
+#include "mpeg4face/io/fap_file.hpp"
 
 namespace mpeg4face::cli {
 

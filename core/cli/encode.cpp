@@ -9,13 +9,13 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
+#include "mpeg4face/codec/measure.hpp"
+#include "mpeg4face/codec/rd.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fap_measure.hpp"
-#include "mpeg4face/fap_rd.hpp"
-#include "mpeg4face/fba_codec.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/fit_learn.hpp"
+#include "mpeg4face/fit/learn.hpp"
+#include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/files.hpp"
 #include "mpeg4face/spec.hpp"
 #include "quality.hpp"
 
@@ -27,7 +27,7 @@ struct EncodeArgs {
   std::string output;
   FbaEncodeOptions options;
   // --mode auto: the fewest-bit mode and fap_quant that reaches psnrTarget by `quality`
-  // (fap_rd.hpp).
+  // (codec/rd.hpp).
   bool autoMode = false;
   std::optional<double> psnrTarget;
   FapQuality quality = FapQuality::Robust;

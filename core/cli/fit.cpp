@@ -10,11 +10,11 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fit_json.hpp"
-#include "mpeg4face/fit_learn.hpp"
-#include "mpeg4face/fit_presets.hpp"
-#include "mpeg4face/vrml.hpp"
+#include "mpeg4face/fit/json.hpp"
+#include "mpeg4face/fit/learn.hpp"
+#include "mpeg4face/fit/presets.hpp"
+#include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/vrml.hpp"
 
 namespace mpeg4face::cli {
 namespace {

@@ -7,9 +7,9 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
-#include "mpeg4face/fapu.hpp"
-#include "mpeg4face/feature_point_csv.hpp"
-#include "mpeg4face/file_io.hpp"
+#include "mpeg4face/io/feature_point_csv.hpp"
+#include "mpeg4face/io/read_any.hpp"
+#include "mpeg4face/model/fapu.hpp"
 #include "mpeg4face/spec.hpp"
 
 namespace mpeg4face::cli {

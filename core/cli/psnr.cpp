@@ -8,12 +8,12 @@
 #include <string>
 
 #include "commands.hpp"
+#include "mpeg4face/codec/measure.hpp"
+#include "mpeg4face/codec/motion_error.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fap_measure.hpp"
-#include "mpeg4face/fap_motion_error.hpp"
+#include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/vrml.hpp"
 #include "mpeg4face/spec.hpp"
-#include "mpeg4face/vrml.hpp"
 #include "quality.hpp"
 
 namespace mpeg4face::cli {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The --quality option of psnr, rd and encode: which PSNR judges an encoding (fap_measure.hpp).
+// The --quality option of psnr, rd and encode: which PSNR judges an encoding (codec/measure.hpp).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "arguments.hpp"
-#include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/codec/measure.hpp"
 
 namespace mpeg4face::cli {
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mpeg4face rd`: the rate-distortion curve of a .fap stream, every coding mode swept over its
 // fap_quant range, as CSV and optionally a plot (scripts/rd_plot.py, matplotlib).
+#include "mpeg4face/codec/rd.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -15,9 +17,8 @@
 #include "arguments.hpp"
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fap_rd.hpp"
-#include "mpeg4face/file_io.hpp"
+#include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/files.hpp"
 #include "quality.hpp"
 
 namespace mpeg4face::cli {

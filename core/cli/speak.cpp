@@ -7,11 +7,11 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fba_codec.hpp"
-#include "mpeg4face/file_io.hpp"
-#include "mpeg4face/speech.hpp"
+#include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/files.hpp"
+#include "mpeg4face/speech/speech.hpp"
 #include "paths.hpp"
 
 namespace mpeg4face::cli {

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <span>
 
-#include "mpeg4face/fba_codec.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
 
 namespace mpeg4face::fuzz {
 

@@ -11,10 +11,10 @@
 #include <cstdlib>
 #include <span>
 
+#include "codec/dct_transform.hpp"
 #include "fuzz_codec.hpp"
-#include "mpeg4face/dct_transform.hpp"
+#include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fba_codec.hpp"
 
 namespace {
 

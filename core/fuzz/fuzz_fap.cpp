@@ -9,9 +9,9 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "mpeg4face/codec/measure.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fap_file.hpp"
-#include "mpeg4face/fap_measure.hpp"
+#include "mpeg4face/io/fap_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

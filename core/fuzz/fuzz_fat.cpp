@@ -10,7 +10,7 @@
 #include <limits>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fat_evaluate.hpp"
+#include "mpeg4face/fat/evaluate.hpp"
 
 namespace {
 

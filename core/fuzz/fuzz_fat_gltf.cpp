@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fat_gltf.hpp"
+#include "mpeg4face/io/fat_gltf.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

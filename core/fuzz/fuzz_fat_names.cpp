@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// libFuzzer target for the shape-key name grammar (fat_names.hpp). mpeg4face::Error is the
+// libFuzzer target for the shape-key name grammar (fat/names.hpp). mpeg4face::Error is the
 // expected outcome for a malformed name; a name that is read must format to a name that
 // reads back the same.
 #include <cstddef>
@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fat_names.hpp"
+#include "mpeg4face/fat/names.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view name(reinterpret_cast<const char*>(data), size);

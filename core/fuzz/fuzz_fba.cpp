@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <span>
 
+#include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fba_codec.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   mpeg4face::FapStream stream;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/feature_point_csv.hpp"
+#include "mpeg4face/io/feature_point_csv.hpp"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// libFuzzer target for the FAP Interpolation Table's JSON form (fit_json.hpp) and what reads a
+// libFuzzer target for the FAP Interpolation Table's JSON form (fit/json.hpp) and what reads a
 // table: mpeg4face::Error is the expected outcome for malformed input. A table that is read
 // must write back to the same table, through JSON and through the BIFS FIT node's fields, and
 // interpolating a frame with it may fail only with mpeg4face::Error.
@@ -9,8 +9,8 @@
 #include <string>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fit_json.hpp"
-#include "mpeg4face/fit_node.hpp"
+#include "mpeg4face/fit/json.hpp"
+#include "mpeg4face/fit/node.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace mpeg4face;

@@ -8,8 +8,8 @@
 #include <string_view>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/fat_names.hpp"
-#include "mpeg4face/gltf.hpp"
+#include "mpeg4face/fat/names.hpp"
+#include "mpeg4face/io/gltf.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// libFuzzer target for the 2D mesh object decoder (.m2d, mesh2d_codec.hpp): mpeg4face::Error
+// libFuzzer target for the 2D mesh object decoder (.m2d, mesh2d/codec.hpp): mpeg4face::Error
 // is the expected outcome for broken input. A decoded sequence must be valid, its triangles in
 // range, and code again at the finest step to a stream that decodes to the same triangles.
 #include <cstddef>
@@ -8,7 +8,7 @@
 #include <span>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/mesh2d_codec.hpp"
+#include "mpeg4face/mesh2d/codec.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace mpeg4face;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// libFuzzer target for the 2D mesh sequence JSON reader (mesh2d_json.hpp) and the geometry it
+// libFuzzer target for the 2D mesh sequence JSON reader (mesh2d/json.hpp) and the geometry it
 // implies: mpeg4face::Error is the expected outcome for malformed input. A sequence read must
 // write back to the same sequence.
 #include <cstddef>
@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/mesh2d_json.hpp"
+#include "mpeg4face/mesh2d/json.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace mpeg4face;

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/obj.hpp"
+#include "mpeg4face/io/obj.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// libFuzzer target for the talking portrait's CSV readers (mesh2d_portrait.hpp): the input is
+// libFuzzer target for the talking portrait's CSV readers (mesh2d/portrait.hpp): the input is
 // the feature points (fp,x,y), a line "--", then their tracks (frame,fp,x,y). mpeg4face::Error
 // is the expected outcome for malformed input; what reads is meshed and moved.
 #include <cstddef>
@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/mesh2d_portrait.hpp"
+#include "mpeg4face/mesh2d/portrait.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace mpeg4face;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// libFuzzer target for what speech.hpp reads: text with bookmarks, and a synthesiser's phone
+// libFuzzer target for what speech/speech.hpp reads: text with bookmarks, and a synthesiser's phone
 // timings (input starting with '#'). mpeg4face::Error is the expected outcome for malformed
 // input; what is read must make a stream with every field in range.
 #include <cstddef>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/speech.hpp"
+#include "mpeg4face/speech/speech.hpp"
 
 namespace {
 

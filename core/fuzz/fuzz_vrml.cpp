@@ -10,7 +10,7 @@
 #include <string_view>
 
 #include "mpeg4face/error.hpp"
-#include "mpeg4face/vrml.hpp"
+#include "mpeg4face/io/vrml.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "mpeg4face/face_model.hpp"
+#include "mpeg4face/model/face_model.hpp"
 
 namespace mpeg4face::test {
 
@@ -67,7 +67,7 @@ inline void addTestShape(FaceModel& head, const std::string& name,
   skin.morphTargets.push_back(std::move(target));
 }
 
-// The shapes whose FAPs the tests know (docs in test_arkit.cpp):
+// The shapes whose FAPs the tests know (docs in arkit/test_shapes.cpp):
 //   jawOpen      2.1 and 2.3 down 10 mm                       -> FAP 3 at 341 MNS units
 //   mouthSmile_L 2.4 up 4 mm and left 2 mm;  mouthPress_L 2.4 right 2 mm
 //                                                             -> FAP 12 = both, 136 MNS units

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Heads and FAP shapes for measuring Facial Motion Cloning, shared by
-// tests/cpp/test_clone_smoothness.cpp and bench/bench_clone.cpp: CANDIDE-3 with its feature
-// points at any density (mesh_resample.hpp), 68 synthetic FAP, viseme and expression shapes
+// tests/cpp/clone/test_smoothness.cpp and bench/bench_clone.cpp: CANDIDE-3 with its feature
+// points at any density (model/mesh_resample.hpp), 68 synthetic FAP, viseme and expression shapes
 // on it, and a
 // roughness measure of a motion field. Header-only, no GoogleTest.
 #pragma once
@@ -16,18 +16,18 @@
 #include <utility>
 #include <vector>
 
-#include "mpeg4face/fapu.hpp"
-#include "mpeg4face/fat_generate.hpp"
-#include "mpeg4face/feature_point_csv.hpp"
-#include "mpeg4face/mesh_resample.hpp"
+#include "mpeg4face/fat/generate.hpp"
+#include "mpeg4face/io/feature_point_csv.hpp"
+#include "mpeg4face/io/wfm.hpp"
+#include "mpeg4face/model/fapu.hpp"
+#include "mpeg4face/model/mesh_resample.hpp"
 #include "mpeg4face/spec.hpp"
-#include "mpeg4face/wfm.hpp"
 
 namespace mpeg4face::clone_fixture {
 
 // Turns triangles so that neighbours run through their common edge in opposite directions
 // (breadth first from each unvisited triangle): CANDIDE-3 mixes both windings, which
-// OpenMesh (mesh_resample.hpp) refuses as non-manifold.
+// OpenMesh (model/mesh_resample.hpp) refuses as non-manifold.
 inline void orientConsistently(IndexedFaceSet& mesh) {
   std::vector<int> t = mesh.triangles();
   const size_t n = t.size() / 3;

@@ -6,10 +6,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
-#include "mpeg4face/face_model.hpp"
-#include "mpeg4face/fap_stream.hpp"
-#include "mpeg4face/fat_evaluate.hpp"
-#include "mpeg4face/fat_generate.hpp"
+#include "mpeg4face/fat/evaluate.hpp"
+#include "mpeg4face/fat/generate.hpp"
+#include "mpeg4face/model/face_model.hpp"
+#include "mpeg4face/stream/fap_stream.hpp"
 
 namespace mpeg4face::test {
 

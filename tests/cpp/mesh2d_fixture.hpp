@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "mpeg4face/mesh2d.hpp"
-#include "mpeg4face/mesh2d_warp.hpp"
+#include "mpeg4face/mesh2d/mesh2d.hpp"
+#include "mpeg4face/mesh2d/warp.hpp"
 
 namespace mpeg4face::test {
 

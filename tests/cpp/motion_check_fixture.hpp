@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "mpeg4face/face_model.hpp"
+#include "mpeg4face/model/face_model.hpp"
 
 namespace mpeg4face::test {
 

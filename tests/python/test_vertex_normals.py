@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""mpeg4face.vertex_normals (core/include/mpeg4face/vertex_normals.hpp), which the Blender
+"""mpeg4face.vertex_normals (core/include/mpeg4face/model/vertex_normals.hpp), which the Blender
 add-on's live preview draws with: equal to the area-weighted sum of the triangles' normals
 computed in numpy, (0, 0, 1) for a lone vertex, a bad index named."""
 

@@ -4,7 +4,7 @@
 AnimatedMorphCube sample, built without mpeg4face so that the reader is tested against an
 independent writer.
 
-Contents (what tests/cpp/test_gltf.cpp checks):
+Contents (what tests/cpp/io/test_gltf.cpp checks):
 - mesh "Cube", 24 vertices (4 per face, per-face normals), two primitives:
   0: the 5 faces other than +Y as indexed TRIANGLES (UNSIGNED_SHORT indices),
   1: the +Y face as a non-indexed TRIANGLE_STRIP;

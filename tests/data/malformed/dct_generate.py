@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the broken DCT-mode FBA streams dct_*.fba next to this script for
-tests/cpp/test_dct_codec.cpp (each test checks the element and message the error names). All
+tests/cpp/codec/test_dct_mode.cpp (each test checks the element and message the error names). All
 start from ../dct/irregular.fba, a valid stream of one intra DCT plane and inter DCT planes
 (docs/dct-mode.md); the fields are found by reading the plane header and intra settings as
 docs/bitstream.md gives them:

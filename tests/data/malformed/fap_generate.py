@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the broken .fap inputs fap_*.fap next to this script for
-tests/cpp/test_fap_file.cpp (each test checks the line and field the error names). All are
+tests/cpp/io/test_fap_file.cpp (each test checks the line and field the error names). All are
 made from scratch (not from the Xface streams): a header `2.1 broken 25 N` and frames sending
 FAP 3 open_jaw, FAP 23 yaw_l_eyeball and FAP 48 head_pitch.
 

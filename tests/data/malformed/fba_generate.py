@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Writes the broken FBA bitstreams fba_*.fba for tests/cpp/test_fba_codec.cpp.
+"""Writes the broken FBA bitstreams fba_*.fba for tests/cpp/codec/test_fba_codec.cpp.
 
 Most are built bit by bit from the syntax (docs/bitstream.md), independently of the C++
 encoder; the cut and flipped ones start from ../../fuzz_corpus/fba/mixed.fba (the project's

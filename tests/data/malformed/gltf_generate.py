@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the broken glTF inputs gltf_*.gltf / gltf_*.glb next to this script for
-tests/cpp/test_gltf.cpp (each test checks the field the error names). All start from one
+tests/cpp/io/test_gltf.cpp (each test checks the field the error names). All start from one
 valid indexed triangle with an embedded buffer:
 
 - gltf_empty.gltf                 zero bytes

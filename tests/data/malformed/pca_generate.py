@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the broken PCA-mode FBA streams pca_*.fba next to this script for
-tests/cpp/test_pca_codec.cpp (each test checks the element and message the error names). All
+tests/cpp/codec/test_pca_mode.cpp (each test checks the element and message the error names). All
 start from ../../fuzz_corpus/fba/pca_joy_q8.fba (`mpeg4face encode joy.fap --mode pca
 --fap-quant 8`); the PCA header (docs/pca-mode.md) is parsed, changed and written again in
 front of the unchanged component planes:

@@ -1,0 +1,117 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Facial Motion Cloning (Pandzic 2003): the motion of every deformed copy of a source face
+// (a FAP, viseme or expression shape) is carried to a neutral target face that has feature
+// points, so the target gets the same copies and, from them, its FaceDefTables. Method and
+// the feature-point triangulation in docs/clone.md.
+#pragma once
+
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mpeg4face/fat/generate.hpp"
+#include "mpeg4face/fat/tables.hpp"
+#include "mpeg4face/model/face_model.hpp"
+#include "mpeg4face/model/fapu.hpp"
+
+namespace mpeg4face {
+
+struct CloneOptions {
+  // Support of the antialiasing (low-pass) filter in alignment-space units (the paper's
+  // 0.02); 0 turns the filter off.
+  double filterSupport = 0.02;
+  // Apply the filter where the target samples the motion more coarsely than the source, the
+  // only case that aliases (the paper's "from a face with a higher density to a face with a
+  // lower density"): full support where the target's local edge length is at least twice
+  // the source's, none where it is at most 1.25 times, linear between (ours, docs/clone.md).
+  // false: the paper's fixed support at every vertex.
+  bool adaptiveFilter = true;
+  // Where the target samples more finely than the source (the inverse ramp: none up to 1.25
+  // times as finely, full from twice), the same filter smooths the source's piecewise-linear
+  // motion across its triangle borders, with a support of this many source edge lengths
+  // (the source's mean local edge length in alignment space), narrowed to 0 at the feature
+  // points, whose motion stays exact (ours, docs/clone.md); 0 turns it off.
+  double smoothSupport = 1.0;
+  // Keep the upper and lower lip regions apart (the paper's lip-region rule).
+  bool separateLips = true;
+  // A target point outside the source's surface takes the motion of the closest source
+  // triangle (the paper's rule) faded linearly to 0 at this distance from it, in alignment
+  // units (ours: a face mask's edge must not drag a whole body along); 0: no fading.
+  double outsideFalloff = 0.5;
+  // Map eyes, teeth, tongue and global head motion as transforms (clone/rigid.hpp).
+  bool rigidParts = true;
+  // Called with a stage name and the fraction done (0..1) of the whole job; may be empty.
+  std::function<void(std::string_view stage, double fraction)> progress;
+};
+
+// The feature points the vertex mapping needs (the triangulation of docs/clone.md), in
+// table order. 3.5, 3.6 (eye rotation centres) and 7.2 (neck base) are used by the rigid
+// parts only: without them those motions are skipped with a warning.
+std::span<const std::string_view> cloneFeaturePoints();
+// Those of cloneFeaturePoints() that `model` does not bind, in table order.
+std::vector<std::string> missingCloneFeaturePoints(const FaceModel& model);
+
+// The vertices of one mesh that a cloned copy moves, and by how much (mesh-local
+// coordinates): vertex vertices[k] moves by displacement.row(k).
+struct MeshDisplacement {
+  int mesh = 0;
+  std::vector<int> vertices;  // ascending
+  Points3 displacement;
+};
+
+// One cloned copy, as what it changes in the target neutral: a FAP shape moves a region of
+// the face, so only the vertices that move are kept (68 full copies of a large head would
+// cost more memory, and time to fill it, than the cloning itself). deformedCopy() makes
+// the full model.
+struct ClonedCopy {
+  std::string name;  // the source copy's name, fapID, highLevelSelect and amplitude
+  int fapID = 3;
+  int highLevelSelect = 0;
+  int amplitude = 0;
+  std::vector<MeshDisplacement> meshes;  // meshes with a vertex that moves, ascending
+  std::vector<Transform> transforms;     // the neutral's, with the rigid parts' motion set
+};
+
+struct CloneResult {
+  // The target with rotation centres installed where needed (clone/rigid.hpp); the neutral
+  // that `copies` deform.
+  FaceModel targetNeutral;
+  // One per source copy, in order.
+  std::vector<ClonedCopy> copies;
+  std::vector<std::string> warnings;
+};
+
+// The full target model of result.copies[index] (the neutral moved by it).
+DeformedCopy deformedCopy(const CloneResult& result, std::size_t index);
+// deformedCopy of every copy, in order.
+std::vector<DeformedCopy> deformedCopies(const CloneResult& result);
+
+// Clones every copy of `sourceNeutral` onto `targetNeutral`. Vertex motion is the change of
+// each vertex's mesh-local position, taken to model space by the neutral world matrices
+// (Transform changes are the rigid parts' business, not vertex motion). Throws
+// mpeg4face::Error listing every missing feature point of either face (source / target
+// named), and for a copy whose meshes, vertex counts, faces (compared at 256 evenly spaced
+// corners: a renumbered copy differs almost everywhere) or Transform count differ from the
+// source neutral's, or with a coordinate that is not finite (naming the copy and mesh).
+CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
+                                std::span<const DeformedCopy> sourceCopies,
+                                const FaceModel& targetNeutral, const CloneOptions& options = {});
+
+// A source given by its tables: one copy per non-zero interval border of each table (a
+// one-interval table at a documented amplitude), visemes and expressions at 63, each
+// evaluated alone from the neutral (FatEvaluator). Rules in docs/clone.md.
+std::vector<DeformedCopy> deformedCopiesFromFaceDefTables(const MpegFace& face,
+                                                          const FapuMeasurement& fapu);
+
+struct ClonedFace {
+  MpegFace face;  // the target with its FaceDefTables (generateFaceDefTables)
+  std::vector<DeformedCopy> copies;
+  std::vector<std::string> warnings;
+};
+// cloneDeformedCopies, then the target's tables from its copies.
+ClonedFace cloneFace(const FaceModel& sourceNeutral, std::span<const DeformedCopy> sourceCopies,
+                     const FaceModel& targetNeutral, const CloneOptions& options = {});
+
+}  // namespace mpeg4face

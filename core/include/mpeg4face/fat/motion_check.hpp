@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The motion check: does a face look right in motion? Every shape key of a head, and every
+// frame of FAP streams evaluated through the face's tables, measured against the neutral
+// face, per mesh: edge stretch, flipped triangles, new self-intersections (CGAL's Polygon
+// Mesh Processing), and at the mouth the inner lip corners against the outer ones, the
+// inner-lip gap and the lower lip's share of the jaw. What each measure means, the limits
+// and why: docs/motion-check.md.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "mpeg4face/fat/tables.hpp"
+#include "mpeg4face/model/face_model.hpp"
+#include "mpeg4face/stream/fap_stream.hpp"
+
+namespace mpeg4face {
+
+struct MotionLimits {
+  // Edge-length ratio max(l/l0, l0/l), 99th percentile over the edges a pose moves.
+  double edgeRatioP99 = 2.0;
+  // A triangle is flipped when its normal turned by more than this.
+  double flipDegrees = 120.0;
+  int normalFlips = 0;  // flipped triangles allowed per pose
+  // New self-intersections allowed per pose, beyond touching: pairs whose six vertices all
+  // lie in the lip region (within lipRegion * MW0 of a bound point 2.x or 8.x) or all in
+  // the lid region (within lidRegion * ES0 of a bound point 3.x), in the neutral face.
+  int newIntersections = 0;
+  double lipRegion = 0.25;
+  double lidRegion = 0.2;
+  // How far an inner lip corner (2.4, 2.5) may be outside its outer one (8.3, 8.4), in MW0.
+  double lipCornerOutside = 0.02;
+  // The lower lip's (8.2) share of the chin's (2.1) motion under FAP 3, at least.
+  double lowerLipShare = 0.5;
+};
+
+// One mesh in one pose against the neutral.
+struct MeshMotion {
+  int mesh = 0;
+  int movedEdges = 0;  // edges with an end that moved
+  double edgeRatioMax = 1, edgeRatioP99 = 1;
+  std::vector<int> stretchedVertices;  // ends of edges past the edge-ratio limit
+  // Triangles as indices into IndexedFaceSet::triangles() / 3.
+  std::vector<int> flippedTriangles;
+  std::vector<std::array<int, 2>> newIntersections;  // not in the neutral, not touching
+  int touchingIntersections = 0;                     // new pairs within the lips or the lids
+  // Sorted vertices of the stretched edges, flipped and newly intersecting triangles.
+  std::vector<int> offendingVertices;
+};
+
+// One shape key or one stream frame.
+struct PoseMotion {
+  std::string name;                           // the shape key, or "<stream name> frame <n>"
+  int stream = -1;                            // index into the streams checked; -1 for a shape key
+  int frame = -1;                             // frame number in the stream
+  std::vector<MeshMotion> meshes;             // the meshes the pose moves
+  double edgeRatioMax = 1, edgeRatioP99 = 1;  // worst mesh
+  int normalFlips = 0, newIntersections = 0, touchingIntersections = 0;
+  // max over both sides of (inner corner - outer corner) along the mouth, outwards, in MW0:
+  // > 0 when an inner corner is outside its outer one. nullopt without 2.4/2.5/8.3/8.4.
+  std::optional<double> lipCornerOutside;
+  std::optional<double> innerLipGap;  // (2.2.y - 2.3.y) / MNS0; nullopt without them
+  std::vector<std::string> failures;  // the limits passed, e.g. "edge ratio p99 3.1 > 2"
+};
+
+struct StreamMotion {
+  std::string name;
+  int frames = 0;
+  double innerLipGapMin = 0, innerLipGapMax = 0;  // over its frames (MNS0), if measured
+};
+
+struct MotionCheck {
+  MotionLimits limits;
+  std::vector<PoseMotion> keys;    // one per shape key (or, for a face, table extreme)
+  std::vector<PoseMotion> frames;  // every frame of every stream, in order
+  std::vector<StreamMotion> streams;
+  std::optional<double> neutralLipGap;  // MNS0
+  // 8.2's displacement along 2.1's over 2.1's squared, at FAP 3 = 1024 through the tables.
+  std::optional<double> lowerLipShare;
+  std::vector<std::string> failures;  // face-level: the lower-lip share
+  std::vector<std::string> notes;     // what could not be measured, and why
+  int neutralIntersections = 0;       // self-intersecting pairs of the neutral (all meshes)
+
+  bool passed() const;
+};
+
+// Called after each pose with (poses done, poses in all).
+using MotionProgress = std::function<void(std::size_t, std::size_t)>;
+
+// A head with shape keys (.glb): its keys in the grammar of fat/names.hpp
+// (deformedCopiesFromShapeKeys), and the streams through the tables made from them
+// (faceFromShapeKeys).
+MotionCheck checkMotion(const FaceModel& head, std::span<const FapStream> streams,
+                        const MotionLimits& limits = {}, const MotionProgress& progress = {});
+// A face with tables (.wrl): as keys each table at its outermost interval borders (a
+// viseme or expression fully on), and the streams through the tables (the face's FIT
+// deriving the FAPs a stream does not send).
+MotionCheck checkMotion(const MpegFace& face, std::span<const FapStream> streams,
+                        const MotionLimits& limits = {}, const MotionProgress& progress = {});
+
+}  // namespace mpeg4face

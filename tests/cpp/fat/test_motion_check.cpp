@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The motion check on a synthetic head whose keys each break one limit (or touch at the lips
+// only), through its shape keys, its tables and a stream played on them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "motion_check_fixture.hpp"
+#include "mpeg4face/fat/motion_check.hpp"
+#include "mpeg4face/fat/names.hpp"
+
+namespace {
+
+using namespace mpeg4face;
+using mpeg4face::test::MotionHead;
+using mpeg4face::test::motionHead;
+
+MotionHead keyedHead() {
+  MotionHead h = motionHead();
+  h.key("expression1_stretch", h.stretchSheet, {-2, 0, 0});    // an edge of 1 becomes 3
+  h.key("expression2_flip", h.stretchSheet, {1.5, 1.5, 0});    // over its neighbours
+  h.key("expression3_pierce", h.crossSheetB + 4, {0, 0, -1});  // B's centre through A
+  h.key("expression4_lips", h.lipSheetB + 4, {0, 0, -0.1});    // the same at the mouth
+  h.key("expression5_corner", h.innerLeft, {0.3, 0, 0});       // 5% of MW0 outside 8.3
+  h.key("expression6_corner", h.innerLeft, {0.21, 0, 0});      // 0.5%: within the limit
+  h.key("fap3@1024", h.chin, {0, -1, 0});                      // MNS0 = 1: 1024 units
+  h.key("fap3@1024", h.lowerLip, {0, -0.3, 0});
+  return h;
+}
+
+const PoseMotion& pose(const MotionCheck& check, const std::string& name) {
+  const auto it = std::find_if(check.keys.begin(), check.keys.end(),
+                               [&](const PoseMotion& p) { return p.name == name; });
+  EXPECT_NE(it, check.keys.end()) << name;
+  return *it;
+}
+
+bool fails(const PoseMotion& p, const std::string& what) {
+  return std::any_of(p.failures.begin(), p.failures.end(),
+                     [&](const std::string& f) { return f.find(what) != std::string::npos; });
+}
+
+class MotionCheckTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    head = new MotionHead(keyedHead());
+    check = new MotionCheck(checkMotion(head->model, {}));
+  }
+  static void TearDownTestSuite() {
+    delete check;
+    delete head;
+  }
+  static MotionHead* head;
+  static MotionCheck* check;
+};
+MotionHead* MotionCheckTest::head = nullptr;
+MotionCheck* MotionCheckTest::check = nullptr;
+
+TEST_F(MotionCheckTest, StretchedEdge) {
+  const PoseMotion& p = pose(*check, "expression1_stretch");
+  EXPECT_NEAR(p.edgeRatioMax, 3.0, 1e-9);
+  EXPECT_GT(p.edgeRatioP99, 2.0);
+  EXPECT_TRUE(fails(p, "edge ratio p99")) << ::testing::PrintToString(p.failures);
+  ASSERT_EQ(p.meshes.size(), 1u);
+  const std::vector<int>& v = p.meshes[0].offendingVertices;
+  EXPECT_TRUE(std::binary_search(v.begin(), v.end(), head->stretchSheet));
+  EXPECT_EQ(p.normalFlips, 0);
+  EXPECT_EQ(p.newIntersections, 0);
+}
+
+TEST_F(MotionCheckTest, FlippedTriangle) {
+  const PoseMotion& p = pose(*check, "expression2_flip");
+  EXPECT_GE(p.normalFlips, 1);
+  EXPECT_TRUE(fails(p, "flipped"));
+  // The first triangle of the sheet, (0 1 4), turned over.
+  const std::vector<int>& t = p.meshes.at(0).flippedTriangles;
+  EXPECT_NE(std::find(t.begin(), t.end(), 0), t.end());
+}
+
+TEST_F(MotionCheckTest, SheetPushedThroughAnotherIsANewSelfIntersection) {
+  const PoseMotion& p = pose(*check, "expression3_pierce");
+  EXPECT_GT(p.newIntersections, 0);
+  EXPECT_TRUE(fails(p, "new self-intersections"));
+  EXPECT_LT(p.edgeRatioP99, 2.0);
+  EXPECT_EQ(p.normalFlips, 0);
+  EXPECT_EQ(check->neutralIntersections, 0);
+}
+
+TEST_F(MotionCheckTest, LipsTouchingIsNotAFailure) {
+  const PoseMotion& p = pose(*check, "expression4_lips");
+  EXPECT_GT(p.touchingIntersections, 0);
+  EXPECT_EQ(p.newIntersections, 0);
+  EXPECT_TRUE(p.failures.empty()) << ::testing::PrintToString(p.failures);
+}
+
+TEST_F(MotionCheckTest, InnerLipCornerOutsideTheOuterOne) {
+  const PoseMotion& out = pose(*check, "expression5_corner");
+  ASSERT_TRUE(out.lipCornerOutside);
+  EXPECT_NEAR(*out.lipCornerOutside, 0.05, 1e-9);  // 0.1 past 8.3, MW0 = 2
+  EXPECT_TRUE(fails(out, "inner lip corner"));
+  const PoseMotion& in = pose(*check, "expression6_corner");
+  EXPECT_NEAR(*in.lipCornerOutside, 0.005, 1e-9);
+  EXPECT_TRUE(in.failures.empty());
+  // The neutral corners are 0.2 inside: 10% of MW0.
+  EXPECT_NEAR(*pose(*check, "expression1_stretch").lipCornerOutside, -0.1, 1e-9);
+}
+
+TEST_F(MotionCheckTest, LowerLipShareAndGap) {
+  ASSERT_TRUE(check->lowerLipShare);
+  EXPECT_NEAR(*check->lowerLipShare, 0.3, 1e-6);
+  ASSERT_EQ(check->failures.size(), 1u);
+  EXPECT_NE(check->failures[0].find("lower lip"), std::string::npos);
+  EXPECT_NEAR(*check->neutralLipGap, 0.05, 1e-9);
+  EXPECT_FALSE(check->passed());
+}
+
+TEST_F(MotionCheckTest, StreamFramesThroughTheTables) {
+  FapStream stream;
+  stream.name = "s";
+  for (int n = 0; n < 3; ++n) {
+    FapFrame f;
+    f.number = n;
+    if (n > 0) {  // the stretch fully on, then held
+      f.mask.set(1);
+      f.expression = {1, 63, 0, 0, false, false};
+    }
+    stream.frames.push_back(f);
+  }
+  std::size_t calls = 0;
+  const MotionCheck c =
+      checkMotion(head->model, {&stream, 1}, {}, [&](std::size_t, std::size_t total) {
+        ++calls;
+        EXPECT_EQ(total, check->keys.size() + 3);
+      });
+  EXPECT_EQ(calls, c.keys.size() + 3);
+  ASSERT_EQ(c.frames.size(), 3u);
+  EXPECT_TRUE(c.frames[0].failures.empty());
+  EXPECT_EQ(c.frames[0].meshes.size(), 0u);  // the neutral
+  for (int n : {1, 2}) {
+    EXPECT_EQ(c.frames[n].name, "s frame " + std::to_string(n));
+    EXPECT_EQ(c.frames[n].frame, n);
+    EXPECT_NEAR(c.frames[n].edgeRatioMax, 3.0, 1e-5);
+    EXPECT_TRUE(fails(c.frames[n], "edge ratio"));
+  }
+  ASSERT_EQ(c.streams.size(), 1u);
+  EXPECT_EQ(c.streams[0].frames, 3);
+}
+
+TEST_F(MotionCheckTest, FaceKeysAreTheTablesAtTheirBorders) {
+  const MotionCheck c = checkMotion(faceFromShapeKeys(head->model).face, {});
+  const PoseMotion& p = pose(c, "expression1");
+  EXPECT_NEAR(p.edgeRatioMax, 3.0, 1e-5);
+  EXPECT_GT(pose(c, "fap3_open_jaw@1024").edgeRatioMax, 0.0);
+  EXPECT_NEAR(*c.lowerLipShare, 0.3, 1e-5);
+}
+
+TEST(MotionCheck, ANeutralThatAlreadySelfIntersectsIsNotNew) {
+  MotionHead h = motionHead();
+  h.model.meshes[0].coord(h.crossSheetB + 4, 2) = -0.5;  // B's centre already through A
+  h.key("expression1", h.crossSheetB + 4, {0, 0, -0.05});
+  const MotionCheck c = checkMotion(h.model, {});
+  EXPECT_GT(c.neutralIntersections, 0);
+  ASSERT_EQ(c.keys.size(), 1u);
+  EXPECT_EQ(c.keys[0].newIntersections, 0);
+  EXPECT_TRUE(c.keys[0].failures.empty()) << ::testing::PrintToString(c.keys[0].failures);
+}
+
+}  // namespace
