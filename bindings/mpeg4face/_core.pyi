@@ -610,9 +610,21 @@ class FatState(TypedDict):
 
 def vertex_normals(coord: _ArrayLike, triangles: _ArrayLike) -> npt.NDArray[np.float32]: ...
 
+class ObjectCoordinates(TypedDict):
+    coord: list[_Float64]  # one (N, 3) array per object's mesh, as FatState's
+    placed: list[npt.NDArray[np.float32]]  # (N, 3) in the object's frame, turned by axes
+    placement: _Float64  # (O, 4, 4): coord -> placed
+
 class FatEvaluator:
     def __init__(self, face: MpegFace, storage: Literal["float", "int16"] = "float") -> None: ...
     def evaluate(self, stream: FapStream, index: int) -> FatState: ...
+    def object_coordinates(
+        self,
+        stream: FapStream,
+        index: int,
+        chains: Sequence[Sequence[int]],
+        axes: _ArrayLike | None = None,
+    ) -> ObjectCoordinates: ...
     def neutral(self) -> FatState: ...
     def priority_frames(self, stream: FapStream) -> npt.NDArray[np.bool_]: ...
 

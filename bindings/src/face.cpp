@@ -6,7 +6,9 @@
 #include <pybind11/functional.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -28,6 +30,7 @@ namespace {
 
 using namespace pybind11::literals;
 using Path = std::filesystem::path;
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 py::array_t<double> pointsToNumpy(const Points3& p) {
   py::array_t<double> out({static_cast<py::ssize_t>(p.rows()), py::ssize_t{3}});
@@ -174,6 +177,20 @@ struct PyFatEvaluator {
   std::shared_ptr<const MpegFace> face;
   FatEvaluator evaluator;
   FatState state;
+  std::vector<Transform> neutral;  // the neutral state's, for object_coordinates
+  std::vector<Points3f> placed;    // object_coordinates' buffers, reused
+  std::vector<Eigen::Affine3d> placements;
+
+  // Sets `state` to the face after frame `index` of the stream, resolved as a decoder does.
+  void evaluateAt(const FapStream& stream, std::size_t index) {
+    if (index >= stream.frames.size()) {
+      throw py::index_error("frame index " + std::to_string(index) + " outside the stream's " +
+                            std::to_string(stream.frames.size()) + " frames");
+    }
+    FapState resolved;
+    for (std::size_t i = 0; i <= index; ++i) applyFrame(resolved, stream.frames[i]);
+    evaluator.evaluate(resolved, state);
+  }
 };
 
 py::dict stateToPython(const FatState& state) {
@@ -201,30 +218,27 @@ void bindEvaluator(py::module_& m) {
       m, "FatEvaluator",
       "A face's tables compiled once (for the FAPU measured on its feature points) to animate "
       "it with FAP frames.");
-  cls.def(py::init([](const MpegFace& face, const std::string& storage) {
-            if (storage != "float" && storage != "int16") {
-              throw py::value_error("storage: '" + storage + "' is not 'float' or 'int16'");
-            }
-            auto shared = std::make_shared<const MpegFace>(face);
-            FatEvaluator evaluator(*shared, measureFapu(shared->faceSceneGraph),
-                                   storage == "int16" ? FatStorage::Int16 : FatStorage::Float);
-            FatState state = evaluator.neutralState();
-            return PyFatEvaluator{std::move(shared), std::move(evaluator), std::move(state)};
-          }),
-          "face"_a, "storage"_a = "float",
-          "storage: 'float' (the default: about 7 significant digits) or 'int16' (half the "
-          "memory read per frame, for playback; a motion is off by at most 1/32768 of its "
-          "table's largest per interval, docs/fat.md).");
+  cls.def(
+      py::init([](const MpegFace& face, const std::string& storage) {
+        if (storage != "float" && storage != "int16") {
+          throw py::value_error("storage: '" + storage + "' is not 'float' or 'int16'");
+        }
+        auto shared = std::make_shared<const MpegFace>(face);
+        FatEvaluator evaluator(*shared, measureFapu(shared->faceSceneGraph),
+                               storage == "int16" ? FatStorage::Int16 : FatStorage::Float);
+        FatState state = evaluator.neutralState();
+        std::vector<Transform> neutral = state.transforms;
+        return PyFatEvaluator{
+            std::move(shared), std::move(evaluator), std::move(state), std::move(neutral), {}, {}};
+      }),
+      "face"_a, "storage"_a = "float",
+      "storage: 'float' (the default: about 7 significant digits) or 'int16' (half the "
+      "memory read per frame, for playback; a motion is off by at most 1/32768 of its "
+      "table's largest per interval, docs/fat.md).");
   cls.def(
       "evaluate",
       [](PyFatEvaluator& self, const FapStream& stream, std::size_t index) {
-        if (index >= stream.frames.size()) {
-          throw py::index_error("frame index " + std::to_string(index) + " outside the stream's " +
-                                std::to_string(stream.frames.size()) + " frames");
-        }
-        FapState resolved;
-        for (std::size_t i = 0; i <= index; ++i) applyFrame(resolved, stream.frames[i]);
-        self.evaluator.evaluate(resolved, self.state);
+        self.evaluateAt(stream, index);
         return stateToPython(self.state);
       },
       "stream"_a, "index"_a,
@@ -232,6 +246,44 @@ void bindEvaluator(py::module_& m) {
       "decoder does): a dict of coord (a list of (N, 3) arrays, one per mesh, mesh-local), and "
       "translation (T, 3), rotation (T, 4) quaternions x, y, z, w, and scale (T, 3) of every "
       "Transform.");
+  cls.def(
+      "object_coordinates",
+      [](PyFatEvaluator& self, const FapStream& stream, std::size_t index,
+         const std::vector<std::vector<int>>& chains, const std::optional<DoubleArray>& axes) {
+        Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
+        if (axes) {
+          if (axes->ndim() != 2 || axes->shape(0) != 3 || axes->shape(1) != 3) {
+            throw Error({}, 0, "axes", "expected (3, 3)");
+          }
+          turn = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(axes->data());
+        }
+        self.evaluateAt(stream, index);
+        objectCoordinates(self.state, self.neutral, chains, turn, self.placed, self.placements);
+        py::list coord, placed;
+        const auto n = static_cast<py::ssize_t>(chains.size());
+        py::array_t<double> placement({n, py::ssize_t{4}, py::ssize_t{4}});
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const auto k = static_cast<std::size_t>(i);
+          coord.append(pointsToNumpy(self.state.coord[k]));
+          const Points3f& p = self.placed[k];
+          py::array_t<float> out(std::vector<py::ssize_t>{p.rows(), 3});
+          std::copy(p.data(), p.data() + p.size(), out.mutable_data());
+          placed.append(std::move(out));
+          const Eigen::Matrix4d& matrix = self.placements[k].matrix();
+          for (int r = 0; r < 4; ++r) {
+            for (int c = 0; c < 4; ++c) placement.mutable_at(i, r, c) = matrix(r, c);
+          }
+        }
+        return py::dict("coord"_a = coord, "placed"_a = placed, "placement"_a = placement);
+      },
+      "stream"_a, "index"_a, "chains"_a, "axes"_a = py::none(),
+      "The face after frame `index` (as evaluate()) seen by objects that stay where they are: "
+      "object i shows mesh i, under the Transforms chains[i] (indices, outermost first). A "
+      "dict of coord (mesh i's evaluated (N, 3) mesh-local coordinates, as evaluate()), "
+      "placed (float32 (N, 3): coord where the evaluated Transforms along the chain put it, "
+      "taken back through the inverse of the neutral Transforms' product, then turned by "
+      "`axes` (3, 3), say Y-up to Z-up) and placement ((O, 4, 4): the matrix doing that, "
+      "whose upper-left 3x3 turns normals).");
   cls.def(
       "neutral",
       [](const PyFatEvaluator& self) { return stateToPython(self.evaluator.neutralState()); },

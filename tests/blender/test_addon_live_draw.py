@@ -114,10 +114,11 @@ def test_normals_turn_with_the_placement():
     points = rng.normal(size=(30, 3))
     triangles = rng.permuted(np.tile(np.arange(30), (3, 4)), axis=1).T  # each vertex used
     matrix = np.array(Matrix.Rotation(0.7, 4, "X") @ Matrix.Translation((0.1, 0.2, 0.3)))
-    turned = live_logic.placed_normals(mpeg4face.vertex_normals(points, triangles), matrix)
-    np.testing.assert_allclose(
-        turned, mpeg4face.vertex_normals(live_logic.placed(points, matrix), triangles),
-        atol=1e-4)
+    placement = np.eye(4)  # as object_coordinates gives it: into Blender's axes too
+    placement[:3] = live_logic.TO_BLENDER @ matrix[:3]
+    placed = points @ placement[:3, :3].T + placement[:3, 3]
+    turned = live_logic.placed_normals(mpeg4face.vertex_normals(points, triangles), placement)
+    np.testing.assert_allclose(turned, mpeg4face.vertex_normals(placed, triangles), atol=1e-4)
 
 
 def world_vertices(obj):

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The live preview's per-frame arithmetic without bpy (testable with plain pytest): the
-evaluated vertices of an object, and their normals, placed in Blender's axes in one
-product each (the normals come from the core's vertex_normals)."""
+"""The live preview's arithmetic without bpy (testable with plain pytest): the axes the
+core places the evaluated vertices in (FatEvaluator.object_coordinates gives them in each
+object's frame, float32), and the normals turned as the core's placement turns the
+vertices (the normals come from the core's vertex_normals)."""
 
 from __future__ import annotations
 
@@ -20,17 +21,9 @@ def blender_placement(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return TO_BLENDER @ matrix[:3, :3], TO_BLENDER @ matrix[:3, 3]
 
 
-def placed_normals(normals: npt.ArrayLike, matrix: np.ndarray) -> Array32:
-    """Normals of standard-axes coordinates, turned as `placed` turns the coordinates
+def placed_normals(normals: npt.ArrayLike, placement: np.ndarray) -> Array32:
+    """Normals of standard-axes coordinates, turned as `placement` (4, 4, from
+    object_coordinates: into the object's frame, in Blender's axes) turns the coordinates
     (unnormalised under a scale: the shader normalises)."""
-    rotation, _ = blender_placement(matrix)
-    return np.asarray(normals, dtype=np.float32) @ rotation.T.astype(np.float32)
-
-
-def placed(coords: npt.ArrayLike, matrix: np.ndarray) -> Array32:
-    """The standard-axes coordinates moved by `matrix` (4, 4), in Blender's axes, float32
-    (N, 3) as a vertex buffer holds them."""
-    rotation, translation = blender_placement(matrix)
-    shown = np.asarray(coords, dtype=np.float32) @ rotation.T.astype(np.float32)
-    shown += translation.astype(np.float32)
-    return shown
+    rotation = np.asarray(placement)[:3, :3].astype(np.float32)
+    return np.asarray(normals, dtype=np.float32) @ rotation.T

@@ -5,7 +5,8 @@ change, drawn in a SpaceView3D handler with the material colours and a studio-li
 while the original objects show nothing in the viewport (an empty geometry-nodes
 modifier, off for rendering: they stay active and selectable). No mesh is written or tagged, so
 Blender re-evaluates nothing: the cost of a frame is the core's evaluation, its vertex
-normals (the core's vertex_normals) and two numpy products (logic/live.py).
+normals (the core's vertex_normals), both placed in the object's frame by the core
+(FatEvaluator.object_coordinates), and the normals' turn (logic/live.py).
 
 Blender has no GPU context in background mode (-b): there the buffers are filled (the
 per-frame work is measurable and testable) and nothing is uploaded or drawn."""
@@ -79,26 +80,28 @@ class DrawMesh:
     index_buffer: object | None = None
     dirty: bool = True
     neutral_normals: np.ndarray | None = None  # of the undeformed mesh, for rigid motion
-    shown: tuple[np.ndarray, np.ndarray] | None = None  # the update's coords and matrix
+    shown: tuple[np.ndarray, np.ndarray] | None = None  # the update's coords and placement
     flat: bool = False  # no smooth faces: shaded flat, as Blender shows it
 
-    def update(self, coords: np.ndarray, matrix: np.ndarray, rigid: bool) -> None:
-        """The evaluation's coordinates (N, 3, standard axes) placed by `matrix` (4, 4),
-        live_logic.placed; `rigid` when they are the neutral ones (a part without
+    def update(self, coords: np.ndarray, placed: np.ndarray, placement: np.ndarray,
+               rigid: bool) -> None:
+        """The evaluation's coordinates (N, 3, standard axes), `placed` by `placement`
+        (4, 4) into the object's frame in Blender's axes (float32, the core's
+        object_coordinates); `rigid` when they are the neutral ones (a part without
         deformation): its normals are the neutral ones turned. Nothing changes (and
-        nothing is uploaded) when coords and matrix are those of the last update."""
-        if self.shown is not None and np.array_equal(self.shown[1], matrix) and (
+        nothing is uploaded) when coords and placement are those of the last update."""
+        if self.shown is not None and np.array_equal(self.shown[1], placement) and (
                 np.array_equal(self.shown[0], coords)):
             return
-        self.shown = coords, matrix
-        self.positions = live_logic.placed(coords, matrix)
+        self.shown = coords, placement
+        self.positions = placed
         if not rigid:
             normals = mpeg4face.vertex_normals(coords, self.triangles)
         else:
             if self.neutral_normals is None:
                 self.neutral_normals = mpeg4face.vertex_normals(coords, self.triangles)
             normals = self.neutral_normals
-        self.vertex_normals = live_logic.placed_normals(normals, matrix)
+        self.vertex_normals = live_logic.placed_normals(normals, placement)
         self.dirty = True
 
 

@@ -6,7 +6,6 @@ the Live Preview operator (ui/operators/live.py), the import and the panels use 
 register() adds the load handler that shows the objects a saved drawn preview hid;
 unregister() ends every preview."""
 
-import functools
 from dataclasses import dataclass
 
 import bpy
@@ -33,7 +32,6 @@ class LiveObject:
 
     name: str
     chain: tuple[int, ...]  # the Transforms from the head's down to the one holding its mesh
-    unposed: np.ndarray  # (4, 4): the inverse of the chain's neutral matrix
     restore: tuple[bool, int]  # show_only_shape_key, active_shape_key_index
     pointer: int = 0  # as_pointer(): finds the object again after a rename
     drawn: live_draw.DrawMesh | None = None  # drawn with the gpu module (LiveState.draw)
@@ -47,7 +45,6 @@ class LiveState:
     evaluator: mpeg4face.FatEvaluator
     stream: mpeg4face.FapStream
     start: int
-    centers: list[np.ndarray]  # per Transform: the center the evaluation leaves as it is
     objects: list[LiveObject]
     neutral: list[np.ndarray]  # per object: the evaluator's neutral coordinates
     # Drawn with the gpu module (live_draw) instead of written into the live keys; the keys
@@ -101,8 +98,7 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
     stop_live(obj)
     objects = [obj, *poses.parts(obj)]
     _refuse_shared_meshes(objects)
-    model, generated = stream_face(obj, scene, keys, stream)
-    neutral = [t.local_matrix() for t in model.transforms]
+    _, generated = stream_face(obj, scene, keys, stream)
     draw = not bpy.app.background if draw is None else draw
     drawn = live_draw.add_face(obj.name, objects) if draw else [None] * len(objects)
     live_objects = []
@@ -110,13 +106,13 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
         # poses.read_posed_face_model makes each part (Transform i, holding mesh i) a child of the
         # head's Transform 0.
         chain = (0,) if index == 0 else (0, index)
-        live_objects.append(LiveObject(o.name, chain, np.linalg.inv(_product(neutral, chain)),
+        live_objects.append(LiveObject(o.name, chain,
                                        (o.show_only_shape_key, o.active_shape_key_index),
                                        o.as_pointer(), drawn[index]))
         _add_live_key(o)
     evaluator = mpeg4face.FatEvaluator(generated["face"])
-    state = LiveState(evaluator, stream, start, [t.center for t in model.transforms],
-                      live_objects, list(evaluator.neutral()["coord"]), draw)
+    state = LiveState(evaluator, stream, start, live_objects,
+                      list(evaluator.neutral()["coord"]), draw)
     _live[obj.name] = state
     for handlers, handler in _HANDLERS:
         if handler not in handlers():
@@ -134,10 +130,6 @@ def _refuse_shared_meshes(objects: list[bpy.types.Object]) -> None:
             raise ValueError(f"{first} and {o.name} share the mesh {o.data.name}: the live "
                              "preview needs a mesh for each (Object > Relations > Make "
                              "Single User)")
-
-
-def _product(matrices: list[np.ndarray], chain: tuple[int, ...]) -> np.ndarray:
-    return functools.reduce(np.matmul, (matrices[i] for i in chain))
 
 
 def _add_live_key(obj: bpy.types.Object) -> None:
@@ -212,9 +204,10 @@ def _live_objects(head: str, state: LiveState) -> list[bpy.types.Object] | None:
 
 
 def _evaluated(state: LiveState, scene: bpy.types.Scene
-               ) -> list[tuple[np.ndarray, np.ndarray]]:
-    """The evaluation at the scene's frame: each object's coordinates (N, 3, standard
-    axes) and the matrix (4, 4) that shows them in the object's own frame.
+               ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The evaluation at the scene's frame, per object: its mesh's coordinates (N, 3,
+    standard axes), the same shown in the object's own frame in Blender's axes (float32),
+    and the placement (4, 4) between the two (the core's object_coordinates).
 
     An object's vertices are shown where the evaluated Transforms put them (L0 @ Li @
     coord), taken back through its neutral Transforms (inverse(N0 @ Ni)) into its own
@@ -222,12 +215,9 @@ def _evaluated(state: LiveState, scene: bpy.types.Scene
     the teeth with the jaw or a nod of the head."""
     seconds = (scene.frame_current - state.start) / scene_rate(scene)
     index = stream_logic.live_index(state.stream.frame_numbers, state.stream.frame_rate, seconds)
-    result = state.evaluator.evaluate(state.stream, index)
-    local = [mpeg4face.Transform(translation=t, rotation=r, scale=s, center=c).local_matrix()
-             for t, r, s, c in zip(result["translation"], result["rotation"], result["scale"],
-                                   state.centers)]
-    return [(coords, live.unposed @ _product(local, live.chain))
-            for live, coords in zip(state.objects, result["coord"])]
+    result = state.evaluator.object_coordinates(
+        state.stream, index, [live.chain for live in state.objects], live_logic.TO_BLENDER)
+    return list(zip(result["coord"], result["placed"], result["placement"]))
 
 
 def _show(state: LiveState, scene: bpy.types.Scene, keys: bool = False) -> bool:
@@ -238,13 +228,12 @@ def _show(state: LiveState, scene: bpy.types.Scene, keys: bool = False) -> bool:
     objects = _live_objects(head, state)
     if objects is None:
         return False
-    for obj, live, (coords, matrix), neutral in zip(objects, state.objects,
-                                                    _evaluated(state, scene), state.neutral):
+    for obj, live, (coords, placed, placement), neutral in zip(
+            objects, state.objects, _evaluated(state, scene), state.neutral):
         if live.drawn is not None:
-            live.drawn.update(coords, matrix, rigid=np.array_equal(coords, neutral))
+            live.drawn.update(coords, placed, placement, rigid=np.array_equal(coords, neutral))
         if keys or not state.draw:
-            mesh_data.set_shape_key_coords(obj.data.shape_keys.key_blocks[LIVE_KEY],
-                                           live_logic.placed(coords, matrix))
+            mesh_data.set_shape_key_coords(obj.data.shape_keys.key_blocks[LIVE_KEY], placed)
             obj.data.update()
     if state.draw and not keys:
         live_draw.tag_redraw()  # the draw handler shows the new buffers

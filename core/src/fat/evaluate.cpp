@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <string>
 #include <type_traits>
 #include <utility>
 
@@ -598,6 +599,46 @@ bool FatEvaluator::priorityApplies(const FapFrame& frame) const {
     }
   }
   return false;
+}
+
+Eigen::Affine3d objectPlacement(const std::vector<Transform>& transforms,
+                                const std::vector<Transform>& neutral, std::span<const int> chain,
+                                const Eigen::Matrix3d& axes) {
+  Eigen::Affine3d posed = Eigen::Affine3d::Identity(), rest = Eigen::Affine3d::Identity();
+  for (int t : chain) {
+    if (t < 0 || static_cast<std::size_t>(t) >= std::min(transforms.size(), neutral.size())) {
+      throw Error({}, 0, "chain",
+                  "Transform " + std::to_string(t) + " outside the " +
+                      std::to_string(transforms.size()) + " Transforms");
+    }
+    posed = posed * transforms[static_cast<std::size_t>(t)].localMatrix();
+    rest = rest * neutral[static_cast<std::size_t>(t)].localMatrix();
+  }
+  Eigen::Affine3d placement = Eigen::Affine3d::Identity();
+  placement.linear() = axes;
+  return placement * rest.inverse() * posed;
+}
+
+void objectCoordinates(const FatState& state, const std::vector<Transform>& neutral,
+                       const std::vector<std::vector<int>>& chains, const Eigen::Matrix3d& axes,
+                       std::vector<Points3f>& coords, std::vector<Eigen::Affine3d>& placements) {
+  if (chains.size() > state.coord.size()) {
+    throw Error({}, 0, "chains",
+                std::to_string(chains.size()) + " chains for " +
+                    std::to_string(state.coord.size()) + " meshes");
+  }
+  coords.resize(chains.size());
+  placements.resize(chains.size());
+  for (std::size_t i = 0; i < chains.size(); ++i) {
+    const Eigen::Affine3d& p = placements[i] =
+        objectPlacement(state.transforms, neutral, chains[i], axes);
+    const Points3& from = state.coord[i];
+    coords[i].resize(from.rows(), 3);
+    // Row by row, in double and rounded once: no temporary, the closest floats.
+    for (Eigen::Index r = 0; r < from.rows(); ++r) {
+      coords[i].row(r) = (p * from.row(r).transpose()).transpose().cast<float>();
+    }
+  }
 }
 
 }  // namespace mpeg4face

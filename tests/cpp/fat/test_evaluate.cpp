@@ -525,6 +525,83 @@ TEST(FatEvaluate, LowLevelTranslationOverridesTheVisemesTranslation) {
   EXPECT_EQ(s.transforms[0].translation, Eigen::Vector3d::Zero());
 }
 
+// A head (mesh 0) and an eye (mesh 1) under the head's Transform, both posed off their
+// rest, the head nodded by FAP 3 (on its Transform: a jaw-like turn) and the eye turned by
+// FAP 23: each object's coordinates are its mesh where the evaluated Transforms put it,
+// seen from the neutral Transforms' frame, in Z-up axes.
+TEST(FatEvaluate, ObjectCoordinatesUndoTheNeutralChain) {
+  MpegFace face;
+  FaceModel& graph = face.faceSceneGraph;
+  graph.addMeshWithTransform(gridMesh("Head", 9));
+  graph.addMeshWithTransform(gridMesh("Eye", 6));
+  graph.roots = {0};
+  graph.transforms[0].children = {1};
+  graph.transforms[0].translation = {0.5, -1, 2};
+  graph.transforms[0].center = {0, 1, 0};
+  graph.transforms[1].translation = {3, 4, 5};
+  graph.transforms[1].center = {0.2, 0.1, 0.3};
+  graph.transforms[1].rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ());
+  graph.transforms[1].scale = {1, 2, 1};
+  const auto turn = [](int fap, int transform, Eigen::Vector3d axis) {
+    FaceDefTables t;
+    t.fapID = fap;
+    FaceDefTransform def;
+    def.transform = transform;
+    def.rotationDef = {axis.x(), axis.y(), axis.z(), 1};
+    t.faceDefTransform.push_back(def);
+    return t;
+  };
+  face.faceDefTables = {turn(3, 0, {1, 0, 0}), turn(23, 1, {0, 1, 0})};
+  const FatEvaluator eval(face, uniformFapu());
+  const FatState neutral = eval.neutralState();
+  const FatState s = eval.evaluate(frameWith({{3, 20000}, {23, -30000}}));
+  Eigen::Matrix3d zUp;
+  zUp << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  std::vector<Points3f> coords;
+  std::vector<Eigen::Affine3d> placements;
+  const std::vector<std::vector<int>> chains{{0}, {0, 1}};
+  objectCoordinates(s, neutral.transforms, chains, zUp, coords, placements);
+  ASSERT_EQ(coords.size(), 2u);
+  // The same by hand, as 4x4 matrices and point by point.
+  const auto local = [](const Transform& t) {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    Eigen::Matrix4d c = Eigen::Matrix4d::Identity(), back = Eigen::Matrix4d::Identity();
+    c.block<3, 1>(0, 3) = t.center;
+    back.block<3, 1>(0, 3) = -t.center;
+    m.block<3, 1>(0, 3) = t.translation;
+    Eigen::Matrix4d r = Eigen::Matrix4d::Identity(), sc = Eigen::Matrix4d::Identity();
+    r.block<3, 3>(0, 0) = t.rotation.toRotationMatrix();
+    sc.block<3, 3>(0, 0) = t.scale.asDiagonal();
+    return Eigen::Matrix4d(m * c * r * sc * back);
+  };
+  Eigen::Matrix4d axes = Eigen::Matrix4d::Identity();
+  axes.block<3, 3>(0, 0) = zUp;
+  for (std::size_t i = 0; i < chains.size(); ++i) {
+    Eigen::Matrix4d posed = Eigen::Matrix4d::Identity(), rest = Eigen::Matrix4d::Identity();
+    for (int t : chains[i]) {
+      posed *= local(s.transforms[static_cast<std::size_t>(t)]);
+      rest *= local(neutral.transforms[static_cast<std::size_t>(t)]);
+    }
+    const Eigen::Matrix4d expected = axes * rest.inverse() * posed;
+    EXPECT_TRUE(placements[i].matrix().isApprox(expected, 1e-12)) << placements[i].matrix();
+    ASSERT_EQ(coords[i].rows(), s.coord[i].rows());
+    for (Eigen::Index v = 0; v < coords[i].rows(); ++v) {
+      const Eigen::Vector4d p = expected * s.coord[i].row(v).transpose().homogeneous();
+      EXPECT_LE((coords[i].row(v).cast<double>() - p.head<3>().transpose()).norm(), 1e-5)
+          << "mesh " << i << " vertex " << v;
+    }
+  }
+  // The motion is there: the eye moved against its neutral place, and at rest nothing does.
+  EXPECT_GT((placements[1].matrix() - axes).norm(), 0.1);
+  objectCoordinates(neutral, neutral.transforms, chains, zUp, coords, placements);
+  for (std::size_t i = 0; i < chains.size(); ++i) {
+    EXPECT_TRUE(placements[i].matrix().isApprox(axes, 1e-12));
+  }
+  EXPECT_THROW(
+      objectCoordinates(s, neutral.transforms, {{0}, {0, 1}, {0}}, zUp, coords, placements), Error);
+  EXPECT_THROW(objectPlacement(s.transforms, neutral.transforms, std::vector<int>{2}, zUp), Error);
+}
+
 TEST(FatEvaluate, StateBuffersAreReused) {
   const MpegFace face = paperFace();
   const FatEvaluator eval(face, uniformFapu());

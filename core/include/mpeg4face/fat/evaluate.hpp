@@ -6,6 +6,7 @@
 #include <array>
 #include <bitset>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -144,5 +145,28 @@ class FatEvaluator {
   std::vector<std::uint32_t> coverStart_;
   std::vector<std::pair<std::uint8_t, float>> cover_;  // (FAP - 1, share)
 };
+
+// Float vertex positions, as a vertex buffer holds them.
+using Points3f = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+// The placement that shows a mesh in the frame of the object holding it, for a view that
+// leaves its objects where they are (the Blender add-on's live preview) and moves the
+// vertices instead: where the `transforms` along `chain` (indices, outermost first) put
+// the mesh (the product of their local matrices), taken back through the inverse of the
+// same product of the `neutral` Transforms, then turned by `axes` (say Y-up to Z-up). A
+// turn of an eye or a nod of the head thus moves the vertices, not the object. Throws
+// mpeg4face::Error for an index outside `transforms` or `neutral`.
+Eigen::Affine3d objectPlacement(const std::vector<Transform>& transforms,
+                                const std::vector<Transform>& neutral, std::span<const int> chain,
+                                const Eigen::Matrix3d& axes);
+
+// Mesh i of `state` placed by objectPlacement(state.transforms, neutral, chains[i], axes),
+// for i < chains.size(), into coords[i] (float, ready for a vertex buffer) and the
+// placement into placements[i] (its linear part turns the mesh's normals). The outputs are
+// resized; their buffers are reused from frame to frame. Throws mpeg4face::Error for more
+// chains than meshes and as objectPlacement does.
+void objectCoordinates(const FatState& state, const std::vector<Transform>& neutral,
+                       const std::vector<std::vector<int>>& chains, const Eigen::Matrix3d& axes,
+                       std::vector<Points3f>& coords, std::vector<Eigen::Affine3d>& placements);
 
 }  // namespace mpeg4face
