@@ -60,10 +60,11 @@ py::dict tableSummary(const FaceDefTables& t) {
 
 // A cloned copy as what Blender makes a shape key of: per-mesh displacements from the
 // target's neutral.
-py::dict clonedCopy(const DeformedCopy& copy, const FaceModel& neutral) {
+py::dict clonedCopy(const FaceShape& copy, const FaceModel& neutral) {
   py::list meshes;
   for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
-    meshes.append(pointsToNumpy(copy.model.meshes[m].coord - neutral.meshes[m].coord));
+    const int mesh = static_cast<int>(m);
+    meshes.append(pointsToNumpy(denseDisplacement(copy, mesh, neutral.meshes[m].vertexCount())));
   }
   return py::dict("name"_a = toPy(copy.name), "fap"_a = copy.fapID,
                   "select"_a = copy.fapID <= 2 ? copy.highLevelSelect : 0,
@@ -71,14 +72,13 @@ py::dict clonedCopy(const DeformedCopy& copy, const FaceModel& neutral) {
 }
 
 // The source of a clone: a FaceModel with shape keys in the grammar, or an MpegFace.
-std::pair<FaceModel, std::vector<DeformedCopy>> cloneSource(py::handle source) {
+std::pair<FaceModel, std::vector<FaceShape>> cloneSource(py::handle source) {
   if (py::isinstance<MpegFace>(source)) {
     const MpegFace& face = source.cast<const MpegFace&>();
-    return {face.faceSceneGraph,
-            deformedCopiesFromFaceDefTables(face, measureFapu(face.faceSceneGraph))};
+    return {face.faceSceneGraph, shapesFromFaceDefTables(face, measureFapu(face.faceSceneGraph))};
   }
   const FaceModel model = toCore(asFaceModel(source, "clone_face"));
-  return {neutralFaceModel(model), deformedCopiesFromShapeKeys(model).copies};
+  return {neutralFaceModel(model), shapesFromShapeKeys(model).copies};
 }
 
 void bindNames(py::module_& m) {
@@ -301,7 +301,7 @@ void bindClone(py::module_& m) {
           result = cloneFace(sourceNeutral, copies, targetNeutral, options);
         }
         py::list cloned;
-        for (const DeformedCopy& copy : result.copies) {
+        for (const FaceShape& copy : result.copies) {
           cloned.append(clonedCopy(copy, result.face.faceSceneGraph));
         }
         return py::dict("face"_a = std::move(result.face), "copies"_a = cloned,
