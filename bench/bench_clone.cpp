@@ -68,15 +68,15 @@ FaceModel stretched(FaceModel model) {
   return model;
 }
 
-double meanRoughness(const FaceModel& source, std::span<const DeformedCopy> copies,
+double meanRoughness(const FaceModel& source, std::span<const FaceShape> copies,
                      const FaceModel& target, double filterSupport) {
   CloneOptions options;
   options.filterSupport = filterSupport;
   const CloneResult r = cloneDeformedCopies(source, copies, target, options);
   const IndexedFaceSet& mesh = r.targetNeutral.meshes[0];
   double sum = 0;
-  for (const DeformedCopy& c : deformedCopies(r)) {
-    sum += fixture::roughness(mesh, c.model.meshes[0].coord - mesh.coord);
+  for (const FaceShape& c : r.copies) {
+    sum += fixture::roughness(mesh, denseDisplacement(c, 0, mesh.vertexCount()));
   }
   return sum / static_cast<double>(r.copies.size());
 }
@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
     if (only != 0 && only != c.vertices) continue;
     const FaceModel source = fixture::resampled(base, c.vertices);
     const FaceModel target = fixture::resampled(stretched(base), c.vertices);
-    const std::vector<DeformedCopy> copies = fixture::syntheticCopies(source, 0.3);
+    const std::vector<FaceShape> copies = fixture::syntheticCopies(source, 0.3);
     // The baseline: 68 full FaceModel copies of the target, what returning each cloned copy
     // as a whole model would cost before any cloning; CloneResult keeps only what moves.
     const Timing baseline = medianMs(kRuns, [&] {
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
     std::printf("%6d vertices: baseline, %zu full copies of the target FaceModel: %.1f ms\n",
                 target.meshes[0].vertexCount(), copies.size(), baseline.cpuMs);
     std::size_t moved = 0;
-    for (const ClonedCopy& copy : cloneDeformedCopies(source, copies, target).copies) {
+    for (const FaceShape& copy : cloneDeformedCopies(source, copies, target).copies) {
       for (const MeshDisplacement& d : copy.meshes) moved += d.vertices.size();
     }
     std::printf("%6d vertices: a cloned shape moves %.1f%% of the target's vertices on average\n",
@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
   // Smoothness: a 25k source with per-vertex detail onto two coarser targets (1,000 and 6,000
   // vertices); a denser target is CloneSmoothness.DenserTargetGetsSmoothMotion's case.
   const FaceModel source = fixture::resampled(base, 25000);
-  const std::vector<DeformedCopy> copies = fixture::syntheticCopies(source, 1.0);
+  const std::vector<FaceShape> copies = fixture::syntheticCopies(source, 1.0);
   std::printf(
       "roughness of the cloned motion (mean |Laplacian| / mean |motion|), source %d "
       "vertices with per-vertex detail:\n",

@@ -3,7 +3,7 @@
 // only 19,158 vertices, most of them body): one frame of 60 FAPs, each moving the 20% of
 // the vertices nearest a point of the head with 2 or 3 intervals, against a dense baseline
 // (every FAP a dense morph target over all vertices, float, as glTF stores them) run in the
-// same process; and the generator making 68 tables from 68 deformed copies. Single thread,
+// same process; and the generator making 68 tables from 68 shapes. Single thread,
 // medians of several runs.
 #include <algorithm>
 #include <chrono>
@@ -221,17 +221,17 @@ int main() {
 
   // Generator: 68 copies, one per FAP 3..68 plus viseme 1 and expression 1, each moving 20%
   // of the vertices (building the copies is not timed).
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   for (int k = 0; k < 68; ++k) {
-    DeformedCopy& c = copies.emplace_back();
+    FaceShape& c = copies.emplace_back();
     c.fapID = k < 66 ? k + 3 : k - 65;
     c.highLevelSelect = c.fapID <= 2 ? 1 : 0;
     c.amplitude = c.fapID <= 2 ? 63 : 500;
     c.name = "copy " + std::to_string(k);
-    c.model = head;
-    Points3& coord = c.model.meshes[0].coord;
+    Points3 motion = Points3::Zero(p0.rows(), 3);
     for (int v : region(p0, rng))
-      coord.row(v) += 0.002 * Eigen::RowVector3d(d(rng), d(rng), d(rng));
+      motion.row(v) += 0.002 * Eigen::RowVector3d(d(rng), d(rng), d(rng));
+    c.meshes.push_back(sparseDisplacement(0, motion));
   }
   GeneratedTables generated;
   const Timing gen =

@@ -290,10 +290,19 @@ def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
     cloned = mpeg4face.clone_face(source, head)
     for warning in cloned["warnings"]:
         print(f"clone: {warning}", file=sys.stderr)
-    keys = {c["name"]: c["displacements"] for c in cloned["copies"]
+    keys = {c["name"]: every_vertex(head, c) for c in cloned["copies"]
             if c["fap"] not in EYEBALL_FAPS}
     lashes_follow_skin(head, keys)
     return keys
+
+
+def every_vertex(head: mpeg4face.FaceModel, shape: dict) -> list[np.ndarray]:
+    """A cloned shape (the vertices that move) as the displacement of every vertex of each
+    mesh: the keys are edited as whole meshes, then written as morph targets."""
+    out = [np.zeros((len(mesh.coord), 3)) for mesh in head.meshes]
+    for moved in shape["meshes"]:
+        out[moved["mesh"]][moved["vertices"]] = moved["displacement"]
+    return out
 
 
 # Each eyelash vertex moves as the mean of this many skin vertices nearest to it.

@@ -630,16 +630,22 @@ class FatEvaluator:
 
 def border_weights(borders: Sequence[int], values: _ArrayLike) -> _Float64: ...
 
-class ClonedCopy(TypedDict):
+class MeshDisplacement(TypedDict):
+    mesh: int
+    vertices: _Int32  # ascending; the mesh's other vertices do not move
+    displacement: _Float64  # (len(vertices), 3)
+
+class FaceShape(TypedDict):
     name: str
     fap: int
     select: int
     amplitude: int
-    displacements: list[_Float64]  # one (N, 3) array per target mesh
+    meshes: list[MeshDisplacement]  # the meshes with a vertex that moves, ascending
+    transforms: list[Transform]  # empty: the neutral's, unchanged
 
 class ClonedFace(TypedDict):
     face: MpegFace
-    copies: list[ClonedCopy]
+    copies: list[FaceShape]
     warnings: list[str]
 
 def clone_feature_points() -> list[str]: ...

@@ -160,6 +160,8 @@ Transform toCore(const PyTransform& transform, const std::string& where);
 CandideModel toCore(const PyCandideModel& candide);
 
 PyFaceModel fromCore(FaceModel&& model);
+PyTransform fromCore(Transform&& transform);
+py::array_t<int32_t> indicesFromCore(const std::vector<int>& v);
 PyFeaturePointBinding fromCore(const FeaturePointBinding& binding);
 PyCandideModel fromCore(CandideModel&& candide);
 

@@ -116,12 +116,6 @@ py::array_t<double> vectorFromCore(const std::vector<double>& v) {
   return fixedFromCore(v.data(), static_cast<py::ssize_t>(v.size()));
 }
 
-py::array_t<int32_t> indicesFromCore(const std::vector<int>& v) {
-  py::array_t<int32_t> out(static_cast<py::ssize_t>(v.size()));
-  std::copy(v.begin(), v.end(), out.mutable_data());
-  return out;
-}
-
 std::vector<int> intListToCore(const py::list& list, const std::string& field) {
   std::vector<int> out;
   out.reserve(list.size());
@@ -195,18 +189,6 @@ PyMesh fromCore(IndexedFaceSet&& mesh) {
   return out;
 }
 
-PyTransform fromCore(Transform&& transform) {
-  PyTransform out;
-  out.name = std::move(transform.name);
-  out.translation = fixedFromCore(transform.translation.data(), 3);
-  out.rotation = fixedFromCore(transform.rotation.coeffs().data(), 4);  // x, y, z, w
-  out.scale = fixedFromCore(transform.scale.data(), 3);
-  out.center = fixedFromCore(transform.center.data(), 3);
-  out.children = intListFromCore(transform.children);
-  out.meshes = intListFromCore(transform.meshes);
-  return out;
-}
-
 PyCandideUnit fromCore(CandideUnit&& unit) {
   PyCandideUnit out;
   out.name = std::move(unit.name);
@@ -228,6 +210,24 @@ CandideUnit toCore(const PyCandideUnit& unit, const std::string& where) {
 }
 
 }  // namespace
+
+py::array_t<int32_t> indicesFromCore(const std::vector<int>& v) {
+  py::array_t<int32_t> out(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), out.mutable_data());
+  return out;
+}
+
+PyTransform fromCore(Transform&& transform) {
+  PyTransform out;
+  out.name = std::move(transform.name);
+  out.translation = fixedFromCore(transform.translation.data(), 3);
+  out.rotation = fixedFromCore(transform.rotation.coeffs().data(), 4);  // x, y, z, w
+  out.scale = fixedFromCore(transform.scale.data(), 3);
+  out.center = fixedFromCore(transform.center.data(), 3);
+  out.children = intListFromCore(transform.children);
+  out.meshes = intListFromCore(transform.meshes);
+  return out;
+}
 
 std::vector<int> indicesToCore(py::handle value, const std::string& field) {
   const IntArray a = IntArray::ensure(value);

@@ -61,27 +61,30 @@ py::dict tableSummary(const FaceDefTables& t) {
   return d;
 }
 
-// A cloned copy as what Blender makes a shape key of: per-mesh displacements from the
-// target's neutral.
-py::dict clonedCopy(const DeformedCopy& copy, const FaceModel& neutral) {
+// A shape as Python sees it: per mesh that moves, its vertices and their displacements (what
+// Blender writes a shape key from), and the Transforms (empty: the neutral's).
+py::dict shapeToPy(FaceShape&& shape) {
   py::list meshes;
-  for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
-    meshes.append(pointsToNumpy(copy.model.meshes[m].coord - neutral.meshes[m].coord));
+  for (const MeshDisplacement& d : shape.meshes) {
+    meshes.append(py::dict("mesh"_a = d.mesh, "vertices"_a = indicesFromCore(d.vertices),
+                           "displacement"_a = pointsToNumpy(d.displacement)));
   }
-  return py::dict("name"_a = toPy(copy.name), "fap"_a = copy.fapID,
-                  "select"_a = copy.fapID <= 2 ? copy.highLevelSelect : 0,
-                  "amplitude"_a = copy.amplitude, "displacements"_a = meshes);
+  py::list transforms;
+  for (Transform& t : shape.transforms) transforms.append(py::cast(fromCore(std::move(t))));
+  return py::dict("name"_a = toPy(shape.name), "fap"_a = shape.fapID,
+                  "select"_a = shape.fapID <= 2 ? shape.highLevelSelect : 0,
+                  "amplitude"_a = shape.amplitude, "meshes"_a = meshes,
+                  "transforms"_a = transforms);
 }
 
 // The source of a clone: a FaceModel with shape keys in the grammar, or an MpegFace.
-std::pair<FaceModel, std::vector<DeformedCopy>> cloneSource(py::handle source) {
+std::pair<FaceModel, std::vector<FaceShape>> cloneSource(py::handle source) {
   if (py::isinstance<MpegFace>(source)) {
     const MpegFace& face = source.cast<const MpegFace&>();
-    return {face.faceSceneGraph,
-            deformedCopiesFromFaceDefTables(face, measureFapu(face.faceSceneGraph))};
+    return {face.faceSceneGraph, shapesFromFaceDefTables(face, measureFapu(face.faceSceneGraph))};
   }
   const FaceModel model = toCore(asFaceModel(source, "clone_face"));
-  return {neutralFaceModel(model), deformedCopiesFromShapeKeys(model).copies};
+  return {neutralFaceModel(model), shapesFromShapeKeys(model).copies};
 }
 
 void bindNames(py::module_& m) {
@@ -353,9 +356,7 @@ void bindClone(py::module_& m) {
           result = cloneFace(sourceNeutral, copies, targetNeutral, options);
         }
         py::list cloned;
-        for (const DeformedCopy& copy : result.copies) {
-          cloned.append(clonedCopy(copy, result.face.faceSceneGraph));
-        }
+        for (FaceShape& copy : result.copies) cloned.append(shapeToPy(std::move(copy)));
         return py::dict("face"_a = std::move(result.face), "copies"_a = cloned,
                         "warnings"_a = stringList(result.warnings));
       },
@@ -365,7 +366,9 @@ void bindClone(py::module_& m) {
       "shape of `source` (a FaceModel with shape keys in the grammar, or an MpegFace) onto the "
       "neutral FaceModel `target`; both need the clone_feature_points(). Returns a dict: face "
       "(the target as an MpegFace with its tables), copies (one dict per shape: name, fap, "
-      "select, amplitude, displacements: one (N, 3) array per target mesh) and warnings. "
+      "select, amplitude, meshes: one dict per target mesh that moves, with mesh, vertices "
+      "(ascending) and displacement (len(vertices), 3), and transforms: the target's Transforms "
+      "with the rigid parts' motion) and warnings. "
       "progress(stage, fraction) is called as it goes.");
 }
 

@@ -82,7 +82,7 @@ void bindFeaturePoints(const std::optional<std::string>& csvPath, FaceModel& mod
 
 struct Source {
   FaceModel neutral;
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   std::string kind;  // "tables" or "shape keys"
 };
 
@@ -92,7 +92,7 @@ Source tablesSource(MpegFace face, const FapuMeasurement& fapu, const std::strin
                 "the face has no Face Animation Tables: nothing to clone");
   }
   Source out;
-  out.copies = deformedCopiesFromFaceDefTables(face, fapu);
+  out.copies = shapesFromFaceDefTables(face, fapu);
   out.neutral = std::move(face.faceSceneGraph);
   out.neutral = neutralFaceModel(std::move(out.neutral));
   out.kind = "tables";
@@ -126,7 +126,7 @@ Source readSource(const Args& args, std::vector<std::string>& warnings) {
   }
   FaceModel model = readModel(path);
   bindFeaturePoints(args.sourceFeaturePoints, model, warnings);
-  ShapeKeyCopies keys = deformedCopiesFromShapeKeys(model);
+  ShapeKeyCopies keys = shapesFromShapeKeys(model);
   for (const std::string& name : keys.ignored) {
     warnings.push_back("source shape key or animation '" + name +
                        "' is not a FAP, viseme or expression: ignored");
@@ -189,12 +189,10 @@ class ProgressPrinter {
 MpegFace withCopiesAsShapeKeys(const ClonedFace& cloned) {
   MpegFace out = cloned.face;
   FaceModel& model = out.faceSceneGraph;
-  for (const DeformedCopy& copy : cloned.copies) {
-    for (size_t m = 0; m < model.meshes.size(); ++m) {
-      IndexedFaceSet& mesh = model.meshes[m];
-      Points3 motion = copy.model.meshes[m].coord - mesh.coord;
-      if (motion.rows() == 0 || motion.cwiseAbs().maxCoeff() == 0) continue;
-      mesh.morphTargets.push_back({copy.name, std::move(motion)});
+  for (const FaceShape& copy : cloned.copies) {
+    for (const MeshDisplacement& d : copy.meshes) {
+      IndexedFaceSet& mesh = model.meshes[static_cast<std::size_t>(d.mesh)];
+      mesh.morphTargets.push_back({copy.name, denseDisplacement(copy, d.mesh, mesh.vertexCount())});
       mesh.weights.resize(mesh.morphTargets.size(), 0.0);
     }
   }

@@ -117,30 +117,31 @@ inline Eigen::Vector3d shapeCentre(const FaceModel& model, int fapID) {
 // beyond; times (1 + detail * noise): `detail` > 0 adds per-vertex
 // irregularity, the high-frequency motion that aliases when a dense source is sampled by a
 // coarse target.
-inline std::vector<DeformedCopy> syntheticCopies(const FaceModel& model, double detail) {
+inline std::vector<FaceShape> syntheticCopies(const FaceModel& model, double detail) {
   const double es = measureFapu(model).ES0.value;
   const double reach = 0.9 * es, peak = 0.1 * es;
   std::vector<std::pair<int, int>> shapes{{1, 1}, {2, 1}};
   for (int fap = 3; fap <= kFapCount; ++fap) shapes.emplace_back(fap, 0);
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   for (const auto& [fapID, select] : shapes) {
-    DeformedCopy& copy = copies.emplace_back();
+    FaceShape& copy = copies.emplace_back();
     copy.fapID = fapID;
     copy.highLevelSelect = select;
     copy.amplitude = fapID <= 2 ? 63 : 512;
     copy.name = "shape" + std::to_string(fapID);
-    copy.model = model;
     const Eigen::RowVector3d centre = shapeCentre(model, fapID).transpose();
     const Eigen::RowVector3d direction =
         Eigen::RowVector3d(std::sin(fapID), std::cos(1.7 * fapID), 0.5 * std::sin(2.3 * fapID))
             .normalized();
-    Points3& coord = copy.model.meshes[0].coord;
+    const Points3& coord = model.meshes[0].coord;
+    Points3 motion = Points3::Zero(coord.rows(), 3);
     for (int v = 0; v < coord.rows(); ++v) {
       const double r2 = (coord.row(v) - centre).squaredNorm();
       const double q = 1 - r2 / (reach * reach);
       if (q <= 0) continue;
-      coord.row(v) += peak * q * q * q * (1 + detail * detailNoise(fapID, v)) * direction;
+      motion.row(v) = peak * q * q * q * (1 + detail * detailNoise(fapID, v)) * direction;
     }
+    copy.meshes.push_back(sparseDisplacement(0, motion));
   }
   return copies;
 }

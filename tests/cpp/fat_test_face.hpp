@@ -60,7 +60,7 @@ inline FaceModel testFace() {
 }
 
 // The frame that drives `copy`'s shape at its amplitude (a viseme, expression or FAP).
-inline FapFrame frameFor(const DeformedCopy& copy) {
+inline FapFrame frameFor(const FaceShape& copy) {
   FapFrame f;
   if (copy.fapID == 1) {
     f.mask.set(0);
@@ -76,7 +76,8 @@ inline FapFrame frameFor(const DeformedCopy& copy) {
 
 // The largest distance between the evaluated state and the copy, over all meshes (in model
 // space, so that Transform changes count too).
-inline double farthest(const FatState& state, const FaceModel& neutral, const FaceModel& copy) {
+inline double farthest(const FatState& state, const FaceModel& neutral, const FaceShape& shape) {
+  const FaceModel copy = deformedModel(neutral, shape);
   FaceModel animated = neutral;
   animated.transforms = state.transforms;
   for (std::size_t m = 0; m < neutral.meshes.size(); ++m) animated.meshes[m].coord = state.coord[m];

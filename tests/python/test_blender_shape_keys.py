@@ -164,5 +164,22 @@ def test_table_titles():
 
 
 def test_cloned_shapes_in_blender_axes():
-    copies = [{"name": "fap3@5", "displacements": [np.array([[1.0, 2.0, 3.0]])]}]
-    assert shape_keys.cloned_shapes(copies)["fap3@5"].tolist() == [[1.0, -3.0, 2.0]]
+    copies = [{"name": "fap3@5", "meshes": [{"mesh": 0, "vertices": np.array([4], np.int32),
+                                             "displacement": np.array([[1.0, 2.0, 3.0]])}]},
+              {"name": "fap4@5", "meshes": []}]
+    shapes = shape_keys.cloned_shapes(copies)
+    vertices, displacement = shapes["fap3@5"]
+    assert vertices.tolist() == [4]
+    assert displacement.tolist() == [[1.0, -3.0, 2.0]]
+    assert [len(a) for a in shapes["fap4@5"]] == [0, 0]  # moves nothing
+
+
+def test_moved_coords_whole_or_sparse():
+    basis = np.arange(15, dtype=np.float64).reshape(5, 3)
+    whole = np.ones((5, 3))
+    assert np.array_equal(shape_keys.moved_coords(basis, whole), basis + 1)
+    sparse = (np.array([1, 3], np.int32), np.array([[1.0, 0, 0], [0, 0, 2.0]]))
+    moved = shape_keys.moved_coords(basis, sparse)
+    assert np.array_equal(moved[[0, 2, 4]], basis[[0, 2, 4]])
+    assert moved[1].tolist() == [4.0, 4.0, 5.0] and moved[3].tolist() == [9.0, 10.0, 13.0]
+    assert np.array_equal(basis, np.arange(15).reshape(5, 3))  # the Basis is not touched

@@ -110,17 +110,27 @@ def test_cloning_onto_a_scaled_copy_scales_the_motion(candide, data_dir):
                                   progress=lambda stage, fraction: stages.append(fraction))
     assert [c["name"] for c in result["copies"]] == [t.name for t in candide.meshes[0].morph_targets[:3]]
     for copy, source in zip(result["copies"], candide.meshes[0].morph_targets):
-        moved = copy["displacements"][0]
-        assert moved.shape == (113, 3)
-        scale = np.linalg.norm(moved) / np.linalg.norm(source.displacements)
+        # Sparse: the vertices that move, ascending, and their displacements.
+        [moved] = copy["meshes"]
+        assert moved["mesh"] == 0
+        vertices, displacement = moved["vertices"], moved["displacement"]
+        assert vertices.dtype == np.int32 and np.all(np.diff(vertices) > 0)
+        assert 0 < len(vertices) <= 113 and displacement.shape == (len(vertices), 3)
+        assert np.all(np.linalg.norm(displacement, axis=1) > 0)
+        assert len(copy["transforms"]) >= len(target.transforms)  # the target's, rigid motion set
+        scale = np.linalg.norm(displacement) / np.linalg.norm(source.displacements)
         assert scale == pytest.approx(2.0, rel=0.02), copy["name"]
     assert stages and stages[-1] == pytest.approx(1.0) and stages == sorted(stages)
     assert [t["fap"] for t in result["face"].tables] == [3, 5, 33]
     # Cloning from the tables gives the same motion.
     face = mpeg4face.generate_face(candide)["face"]
     again = mpeg4face.clone_face(face, target)
-    np.testing.assert_allclose(again["copies"][0]["displacements"][0],
-                               result["copies"][0]["displacements"][0], atol=1e-6)
+    def every_vertex(copy):
+        out = np.zeros((113, 3))
+        out[copy["meshes"][0]["vertices"]] = copy["meshes"][0]["displacement"]
+        return out
+    np.testing.assert_allclose(every_vertex(again["copies"][0]),
+                               every_vertex(result["copies"][0]), atol=1e-6)
     target.feature_points = {}
     with pytest.raises(mpeg4face.Error, match="target"):
         mpeg4face.clone_face(candide, target)

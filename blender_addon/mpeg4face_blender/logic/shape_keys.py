@@ -23,6 +23,9 @@ import mpeg4face
 from . import feature_points
 
 Array = npt.NDArray[np.float64]
+# A key's motion from the Basis: every vertex's (N, 3), or (vertices, (len(vertices), 3)) for
+# a sparse shape (the core's FaceShape: only the vertices that move).
+Displacement = Array | tuple[npt.NDArray[np.int32], Array]
 
 KINDS = ("FAP", "VISEME", "EXPRESSION")
 # One FAPU distance (1024 units): the jaw drops by MNS0 at open_jaw 1024. Big enough to
@@ -355,6 +358,24 @@ def tables_report(generated: Mapping[str, object], group_warnings: Sequence[str]
     )
 
 
-def cloned_shapes(copies: Sequence[Mapping[str, object]]) -> dict[str, Array]:
-    """clone_face's copies as key name -> displacement in Blender's axes (one mesh)."""
-    return {c["name"]: feature_points.to_blender_axes(c["displacements"][0]) for c in copies}
+def cloned_shapes(copies: Sequence[Mapping[str, object]]
+                  ) -> dict[str, tuple[npt.NDArray[np.int32], Array]]:
+    """clone_face's copies (FaceShapes) as key name -> (vertices, displacement in Blender's
+    axes) of the one mesh (0) the target is."""
+    out = {}
+    for c in copies:
+        moved = [m for m in c["meshes"] if m["mesh"] == 0]
+        out[c["name"]] = ((moved[0]["vertices"], feature_points.to_blender_axes(
+            moved[0]["displacement"])) if moved
+            else (np.zeros(0, np.int32), np.zeros((0, 3))))
+    return out
+
+
+def moved_coords(basis: Array, displacement: Displacement) -> Array:
+    """The Basis coordinates (N, 3) moved by a key's displacement, whole or sparse."""
+    if isinstance(displacement, tuple):
+        vertices, rows = displacement
+        out = basis.copy()
+        out[vertices] += rows
+        return out
+    return basis + displacement

@@ -4,6 +4,7 @@
 // it.
 //
 //   model/face_model.hpp      FaceModel: Transforms, IndexedFaceSets, morph targets, FDP
+//   model/face_shape.hpp      FaceShape: what a FAP, viseme or expression moves, sparse
 //   model/fapu.hpp            the FAPU measured from feature points; Table 6's checks
 //   model/vertex_normals.hpp  smooth normals of a moving triangle mesh
 //   model/mesh_cut.hpp        a part cut out of a model by a plane (a head off a body)
@@ -11,6 +12,7 @@
 #pragma once
 
 #include "mpeg4face/model/face_model.hpp"      // IWYU pragma: export
+#include "mpeg4face/model/face_shape.hpp"      // IWYU pragma: export
 #include "mpeg4face/model/fapu.hpp"            // IWYU pragma: export
 #include "mpeg4face/model/mesh_cut.hpp"        // IWYU pragma: export
 #include "mpeg4face/model/mesh_resample.hpp"   // IWYU pragma: export

@@ -40,44 +40,6 @@ void requireFeaturePointsAndFapu(const FaceModel& source, const FaceModel& targe
   if (!problems.empty()) throw Error({}, 0, "FAPU", "cloning needs every FAPU: " + problems);
 }
 
-// What the motion needs of a copy is the neutral's vertex numbering. The faces are compared
-// at kFaceSamples evenly spaced corners, not all: a renumbered copy differs almost
-// everywhere, and reading every copy's whole face list would cost more than the cloning.
-// Coordinates are checked for being finite where the motion reads them.
-constexpr std::size_t kFaceSamples = 256;
-
-void requireSameTopology(const FaceModel& neutral, const DeformedCopy& copy) {
-  const std::string label = "copy '" + copy.name + "'";
-  const auto fail = [&](const std::string& where, const std::string& what) {
-    throw Error({}, 0, label + where, label + where + " " + what);
-  };
-  if (copy.model.meshes.size() != neutral.meshes.size()) {
-    fail("", "has " + std::to_string(copy.model.meshes.size()) + " meshes, the source neutral " +
-                 std::to_string(neutral.meshes.size()));
-  }
-  for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
-    const IndexedFaceSet& a = neutral.meshes[m];
-    const IndexedFaceSet& b = copy.model.meshes[m];
-    const std::string where = " mesh '" + a.name + "'";
-    if (a.vertexCount() != b.vertexCount()) {
-      fail(where, "has " + std::to_string(b.vertexCount()) + " vertices, the source neutral's " +
-                      std::to_string(a.vertexCount()));
-    }
-    const std::size_t corners = a.coordIndex.size();
-    const std::size_t step = std::max<std::size_t>(1, corners / kFaceSamples);
-    bool same = corners == b.coordIndex.size();
-    for (std::size_t i = 0; same && i < corners; i += step)
-      same = a.coordIndex[i] == b.coordIndex[i];
-    if (!same || (corners > 0 && a.coordIndex.back() != b.coordIndex.back())) {
-      fail(where, "has other faces than the source neutral's");
-    }
-  }
-  if (copy.model.transforms.size() != neutral.transforms.size()) {
-    fail("", "has " + std::to_string(copy.model.transforms.size()) +
-                 " Transforms, the source neutral " + std::to_string(neutral.transforms.size()));
-  }
-}
-
 std::vector<Eigen::Matrix3d> linearParts(const FaceModel& model, bool inverse) {
   std::vector<Eigen::Matrix3d> out;
   for (const Eigen::Affine3d& w : model.meshWorldMatrices()) {
@@ -89,10 +51,10 @@ std::vector<Eigen::Matrix3d> linearParts(const FaceModel& model, bool inverse) {
 }  // namespace
 
 CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
-                                std::span<const DeformedCopy> sourceCopies,
+                                std::span<const FaceShape> sourceCopies,
                                 const FaceModel& targetNeutral, const CloneOptions& options) {
   requireFeaturePointsAndFapu(sourceNeutral, targetNeutral);
-  for (const DeformedCopy& copy : sourceCopies) requireSameTopology(sourceNeutral, copy);
+  for (const FaceShape& copy : sourceCopies) checkFaceShape(sourceNeutral, copy);
 
   CloneResult result;
   result.targetNeutral = targetNeutral;
@@ -125,24 +87,22 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
       options.progress(
           "copies", 0.5 + 0.5 * static_cast<double>(c) / static_cast<double>(sourceCopies.size()));
     }
-    const DeformedCopy& from = sourceCopies[c];
-    // Normalised source motion of every surface vertex, in model space.
-    for (Eigen::Index r = 0; r < motion.rows(); ++r) {
-      const auto [m, v] = sourceSurface.owner[static_cast<std::size_t>(r)];
-      const Eigen::Vector3d local = (from.model.meshes[static_cast<std::size_t>(m)].coord.row(v) -
-                                     sourceNeutral.meshes[static_cast<std::size_t>(m)].coord.row(v))
-                                        .transpose();
-      if (!local.allFinite()) {
-        const std::string where = "copy '" + from.name + "' mesh '" +
-                                  from.model.meshes[static_cast<std::size_t>(m)].name + "'";
-        throw Error({}, 0, where,
-                    where + " vertex " + std::to_string(v) + " is not a finite number");
+    const FaceShape& from = sourceCopies[c];
+    // Normalised source motion of every surface vertex, in model space (0 where the copy
+    // lists none; rigid meshes are not on the surface).
+    motion.setZero();
+    for (const MeshDisplacement& d : from.meshes) {
+      const int first = sourceSurface.firstRow[static_cast<std::size_t>(d.mesh)];
+      if (first < 0) continue;
+      for (std::size_t k = 0; k < d.vertices.size(); ++k) {
+        const Eigen::Index r = first + d.vertices[k];
+        const Eigen::Vector3d local = d.displacement.row(static_cast<Eigen::Index>(k)).transpose();
+        motion.row(r) = (toModel[static_cast<std::size_t>(d.mesh)] * local)
+                            .cwiseQuotient(map.sourceFactors.row(r).transpose())
+                            .transpose();
       }
-      motion.row(r) = (toModel[static_cast<std::size_t>(m)] * local)
-                          .cwiseQuotient(map.sourceFactors.row(r).transpose())
-                          .transpose();
     }
-    ClonedCopy& to = result.copies.emplace_back();
+    FaceShape& to = result.copies.emplace_back();
     to.name = from.name;
     to.fapID = from.fapID;
     to.highLevelSelect = from.highLevelSelect;
@@ -188,36 +148,14 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
   return result;
 }
 
-DeformedCopy deformedCopy(const CloneResult& result, std::size_t index) {
-  const ClonedCopy& cloned = result.copies.at(index);
-  DeformedCopy copy{cloned.name, cloned.fapID, cloned.highLevelSelect, cloned.amplitude,
-                    result.targetNeutral};
-  copy.model.transforms = cloned.transforms;
-  for (const MeshDisplacement& d : cloned.meshes) {
-    Points3& coord = copy.model.meshes[static_cast<std::size_t>(d.mesh)].coord;
-    for (std::size_t k = 0; k < d.vertices.size(); ++k) {
-      coord.row(d.vertices[k]) += d.displacement.row(static_cast<Eigen::Index>(k));
-    }
-  }
-  return copy;
-}
-
-std::vector<DeformedCopy> deformedCopies(const CloneResult& result) {
-  std::vector<DeformedCopy> copies;
-  copies.reserve(result.copies.size());
-  for (std::size_t i = 0; i < result.copies.size(); ++i) copies.push_back(deformedCopy(result, i));
-  return copies;
-}
-
-ClonedFace cloneFace(const FaceModel& sourceNeutral, std::span<const DeformedCopy> sourceCopies,
+ClonedFace cloneFace(const FaceModel& sourceNeutral, std::span<const FaceShape> sourceCopies,
                      const FaceModel& targetNeutral, const CloneOptions& options) {
   CloneResult cloned = cloneDeformedCopies(sourceNeutral, sourceCopies, targetNeutral, options);
-  std::vector<DeformedCopy> copies = deformedCopies(cloned);
   const GeneratedTables tables =
-      generateFaceDefTables(cloned.targetNeutral, measureFapu(cloned.targetNeutral), copies);
+      generateFaceDefTables(cloned.targetNeutral, measureFapu(cloned.targetNeutral), cloned.copies);
   ClonedFace out;
   out.face = {std::move(cloned.targetNeutral), tables.faceDefTables};
-  out.copies = std::move(copies);
+  out.copies = std::move(cloned.copies);
   out.warnings = std::move(cloned.warnings);
   out.warnings.insert(out.warnings.end(), tables.warnings.begin(), tables.warnings.end());
   return out;

@@ -315,22 +315,23 @@ bool holdsForeign(const Scene& s, const Identified& id, int p, int t) {
                      [&](int mesh) { return foreignTo(s, id, p, mesh); });
 }
 
-std::vector<bool> movingTransforms(const FaceModel& neutral, std::span<const DeformedCopy> copies,
+std::vector<bool> movingTransforms(const FaceModel& neutral, std::span<const FaceShape> copies,
                                    const Scene& s) {
   const size_t nt = neutral.transforms.size();
   Eigen::AlignedBox3d box;
   for (const MeshGeometry& g : s.geometry) box.extend(g.box);
   const double size = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-12);
   std::vector<bool> moves(nt, false);
-  for (const DeformedCopy& copy : copies) {
-    if (copy.model.transforms.size() != nt) {
+  for (const FaceShape& copy : copies) {
+    if (copy.transforms.empty()) continue;  // moves no Transform
+    if (copy.transforms.size() != nt) {
       throw Error(copy.name, 0, "transforms",
-                  "the copy has " + std::to_string(copy.model.transforms.size()) +
+                  "the copy has " + std::to_string(copy.transforms.size()) +
                       " Transforms, the source neutral " + std::to_string(nt));
     }
     for (size_t t = 0; t < nt; ++t) {
       const Transform& a = neutral.transforms[t];
-      const Transform& b = copy.model.transforms[t];
+      const Transform& b = copy.transforms[t];
       if ((a.translation - b.translation).norm() > kMotionTolerance * size ||
           a.rotation.angularDistance(b.rotation) > kMotionTolerance ||
           (a.scale - b.scale).cwiseAbs().maxCoeff() >
@@ -377,7 +378,7 @@ std::string_view rigidPartName(Kind kind) {
 }
 
 RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
-                             std::span<const DeformedCopy> sourceCopies, FaceModel& target) {
+                             std::span<const FaceShape> sourceCopies, FaceModel& target) {
   RigidPartMap map;
   const Scene source = makeScene(sourceNeutral, SceneContent::TransformsAndMeshes);
   const std::vector<bool> moves = movingTransforms(sourceNeutral, sourceCopies, source);
@@ -516,7 +517,7 @@ RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
 }
 
 void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
-                      const FapuMeasurement& sourceFapu, const DeformedCopy& sourceCopy,
+                      const FapuMeasurement& sourceFapu, const FaceShape& sourceCopy,
                       const FaceModel& targetNeutral, const FapuMeasurement& targetFapu,
                       std::vector<Transform>& transforms) {
   if (map.parts.empty()) return;
@@ -524,7 +525,8 @@ void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
   const Scene goal = makeScene(targetNeutral, SceneContent::Transforms);
   const int ns = static_cast<int>(sourceNeutral.transforms.size());
   const int nt = static_cast<int>(std::min(transforms.size(), targetNeutral.transforms.size()));
-  if (static_cast<int>(sourceCopy.model.transforms.size()) != ns) {
+  const std::vector<Transform>& sourceTransforms = shapeTransforms(sourceNeutral, sourceCopy);
+  if (static_cast<int>(sourceTransforms.size()) != ns) {
     throw Error(sourceCopy.name, 0, "transforms",
                 "the copy's Transform tree differs from the source neutral's");
   }
@@ -536,7 +538,7 @@ void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
     }
     // The source part's motion in model space, its parent held still: D = P L1 L0^-1 P^-1.
     const Transform& s0 = sourceNeutral.transforms[st];
-    const Transform& s1 = sourceCopy.model.transforms[st];
+    const Transform& s1 = sourceTransforms[st];
     const Eigen::Affine3d up = source.parentWorld(st);
     const Eigen::Affine3d motion =
         up * s1.localMatrix() * s0.localMatrix().inverse() * up.inverse();

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// A cloning source given by its FaceDefTables: the deformed copies that the tables' own
+// A cloning source given by its FaceDefTables: the shapes that the tables' own
 // piecewise-linear functions pass through, so that cloning sees the shapes a modeler would
 // have sculpted. Rules in docs/cli.md ("A source given by tables").
 #include <algorithm>
@@ -81,26 +81,23 @@ FapFrame frameFor(const FaceDefTables& table, int amplitude) {
 
 }  // namespace
 
-std::vector<DeformedCopy> deformedCopiesFromFaceDefTables(const MpegFace& face,
-                                                          const FapuMeasurement& fapu) {
+std::vector<FaceShape> shapesFromFaceDefTables(const MpegFace& face, const FapuMeasurement& fapu) {
   const FatEvaluator evaluator(face, fapu);  // validates the face and the FAPU it needs
-  const FaceModel neutral = neutralFaceModel(face.faceSceneGraph);
+  const FaceModel& neutral = face.faceSceneGraph;
 
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   FatState state = evaluator.neutralState();
   for (const FaceDefTables& table : face.faceDefTables) {
     const int highLevelSelect = table.fapID <= 2 ? table.highLevelSelect : 0;
     for (int amplitude : tableAmplitudes(table)) {
       evaluator.evaluate(frameFor(table, amplitude), state);
-      DeformedCopy& copy = copies.emplace_back();
+      FaceShape& copy = copies.emplace_back();
       copy.name = formatShapeKeyName({table.fapID, highLevelSelect, amplitude, copyLabel(table)});
       copy.fapID = table.fapID;
       copy.highLevelSelect = highLevelSelect;
       copy.amplitude = amplitude;
-      copy.model = neutral;
-      for (size_t m = 0; m < neutral.meshes.size(); ++m)
-        copy.model.meshes[m].coord = state.coord[m];
-      copy.model.transforms = state.transforms;
+      copy.meshes = meshDisplacements(neutral, state.coord);
+      copy.transforms = state.transforms;
     }
   }
   return copies;

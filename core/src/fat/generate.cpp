@@ -14,12 +14,11 @@
 namespace mpeg4face {
 namespace {
 
-std::string copyField(const DeformedCopy& copy) { return "copy '" + copy.name + "'"; }
+std::string copyField(const FaceShape& copy) { return "copy '" + copy.name + "'"; }
 
-void checkCopy(const FaceModel& neutral, const DeformedCopy& copy) {
-  const std::string where = copyField(copy);
+void checkCopy(const FaceModel& neutral, const FaceShape& copy) {
   const auto fail = [&](const std::string& field, const std::string& why) {
-    throw Error({}, 0, field.empty() ? where : where + " " + field, why);
+    throw Error({}, 0, copyField(copy) + " " + field, why);
   };
   if (copy.fapID < 1 || copy.fapID > kFapCount) {
     fail("fapID", std::to_string(copy.fapID) + " is not a FAP (1..68)");
@@ -34,40 +33,7 @@ void checkCopy(const FaceModel& neutral, const DeformedCopy& copy) {
   if (copy.fapID <= 2 && (copy.amplitude < 1 || copy.amplitude > 63)) {
     fail("amplitude", std::to_string(copy.amplitude) + " is not an amount 1..63");
   }
-  const FaceModel& m = copy.model;
-  if (m.meshes.size() != neutral.meshes.size()) {
-    fail("", "has " + std::to_string(m.meshes.size()) + " meshes, the neutral model " +
-                 std::to_string(neutral.meshes.size()));
-  }
-  for (std::size_t i = 0; i < m.meshes.size(); ++i) {
-    const IndexedFaceSet& a = m.meshes[i];
-    const IndexedFaceSet& b = neutral.meshes[i];
-    const std::string mesh = "mesh '" + b.name + "'";
-    if (a.vertexCount() != b.vertexCount()) {
-      fail(mesh, "has " + std::to_string(a.vertexCount()) + " vertices, the neutral model " +
-                     std::to_string(b.vertexCount()));
-    }
-    if (a.coordIndex != b.coordIndex) fail(mesh, "has other faces than the neutral model");
-    if (!a.coord.allFinite()) fail(mesh, "has a vertex position that is not finite");
-  }
-  if (m.transforms.size() != neutral.transforms.size()) {
-    fail("", "has " + std::to_string(m.transforms.size()) + " transforms, the neutral model " +
-                 std::to_string(neutral.transforms.size()));
-  }
-  for (std::size_t i = 0; i < m.transforms.size(); ++i) {
-    const Transform& a = m.transforms[i];
-    const Transform& b = neutral.transforms[i];
-    const std::string t = "transform '" + b.name + "'";
-    if (a.children != b.children || a.meshes != b.meshes) {
-      fail(t, "has other children or meshes than in the neutral model");
-    }
-    if (a.center != b.center) {
-      fail(t, "center moved: only translation, rotation and scale can be animated");
-    }
-    if (!a.translation.allFinite() || !a.scale.allFinite() || !a.rotation.coeffs().allFinite()) {
-      fail(t, "has a value that is not finite");
-    }
-  }
+  checkFaceShape(neutral, copy);
 }
 
 // The unit `threshold` is counted in (GeneratorOptions).
@@ -96,60 +62,79 @@ double headSize(const FaceModel& model) {
 }
 
 // The copies of one FAP (or viseme / expression), by increasing amplitude.
-using Group = std::vector<const DeformedCopy*>;
+using Group = std::vector<const FaceShape*>;
+
+// The copy's displacement of mesh m; nullptr if it moves none of its vertices.
+const MeshDisplacement* displacementOf(const FaceShape& copy, int m) {
+  const auto it = std::ranges::lower_bound(copy.meshes, m, {}, &MeshDisplacement::mesh);
+  return it != copy.meshes.end() && it->mesh == m ? &*it : nullptr;
+}
 
 void addMeshes(const FaceModel& neutral, const Group& group, double scale, double threshold,
                FaceDefTables& table) {
-  // Borders: the amplitudes and 0; position at border b: the copy there, or neutral at 0.
+  // Borders: the amplitudes and 0; the copy at border b, or nullptr for the neutral at 0.
   std::vector<int> borders;
-  std::vector<const FaceModel*> at;
-  for (const DeformedCopy* c : group) {
+  std::vector<const FaceShape*> at;
+  for (const FaceShape* c : group) {
     if (c->amplitude > 0 && (borders.empty() || borders.back() < 0)) {
       borders.push_back(0);
-      at.push_back(&neutral);
+      at.push_back(nullptr);
     }
     borders.push_back(c->amplitude);
-    at.push_back(&c->model);
+    at.push_back(c);
   }
   if (borders.back() < 0) {
     borders.push_back(0);
-    at.push_back(&neutral);
+    at.push_back(nullptr);
   }
   const std::size_t n = borders.size() - 1;
   const double threshold2 = threshold * threshold;
   for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
-    const Points3& p0 = neutral.meshes[m].coord;
-    const auto rows = static_cast<std::size_t>(p0.rows());
-    std::vector<bool> moved(rows, false);
-    for (const DeformedCopy* c : group) {
-      const double* a = c->model.meshes[m].coord.data();
-      const double* b = p0.data();
-      for (std::size_t v = 0; v < rows; ++v, a += 3, b += 3) {
-        const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-        if (dx * dx + dy * dy + dz * dz > threshold2) moved[v] = true;
+    const int mesh = static_cast<int>(m);
+    std::vector<int> affected;
+    for (const FaceShape* c : group) {
+      const MeshDisplacement* d = displacementOf(*c, mesh);
+      if (d == nullptr) continue;
+      for (std::size_t k = 0; k < d->vertices.size(); ++k) {
+        if (d->displacement.row(static_cast<Eigen::Index>(k)).squaredNorm() > threshold2) {
+          affected.push_back(d->vertices[k]);
+        }
       }
     }
-    std::vector<int> affected;
-    for (std::size_t v = 0; v < rows; ++v) {
-      if (moved[v]) affected.push_back(static_cast<int>(v));
-    }
     if (affected.empty()) continue;
+    std::ranges::sort(affected);
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    // Each border's displacement of the affected vertices (0 where its copy lists none).
+    std::vector<Points3> moved;
+    for (const FaceShape* c : at) {
+      Points3& p = moved.emplace_back(Points3::Zero(static_cast<Eigen::Index>(affected.size()), 3));
+      const MeshDisplacement* d = c ? displacementOf(*c, mesh) : nullptr;
+      if (d == nullptr) continue;
+      auto i = affected.begin();
+      for (std::size_t k = 0; k < d->vertices.size(); ++k) {
+        i = std::lower_bound(i, affected.end(), d->vertices[k]);
+        if (i == affected.end()) break;
+        if (*i == d->vertices[k]) {
+          p.row(i - affected.begin()) = d->displacement.row(static_cast<Eigen::Index>(k));
+        }
+      }
+    }
     FaceDefMesh& out = table.faceDefMesh.emplace_back();
-    out.mesh = static_cast<int>(m);
+    out.mesh = mesh;
     out.intervalBorders = borders;
     out.coordIndex = affected;
     out.displacements.resize(static_cast<Eigen::Index>(affected.size() * n), 3);
     for (std::size_t j = 0; j < n; ++j) {
-      const Points3& lo = at[j]->meshes[m].coord;
-      const Points3& hi = at[j + 1]->meshes[m].coord;
+      const Points3& lo = moved[j];
+      const Points3& hi = moved[j + 1];
       // Positive side and one interval: motion per FAP unit from lower to upper border;
       // negative side: per unit of |FAP| outwards, from upper to lower (the paper's rule 4).
       const double width = (double(borders[j + 1]) - double(borders[j])) * scale;
       const double factor = (borders[j] >= 0 || n == 1 ? 1.0 : -1.0) / width;
       for (std::size_t i = 0; i < affected.size(); ++i) {
-        const int v = affected[i];
+        const auto r = static_cast<Eigen::Index>(i);
         out.displacements.row(static_cast<Eigen::Index>(i * n + j)) =
-            factor * (hi.row(v) - lo.row(v));
+            factor * (hi.row(r) - lo.row(r));
       }
     }
   }
@@ -158,12 +143,12 @@ void addMeshes(const FaceModel& neutral, const Group& group, double scale, doubl
 void addTransforms(const FaceModel& neutral, const Group& group, double scale, double threshold,
                    double size, FaceDefTables& table, std::vector<std::string>& warnings) {
   // A FaceDefTransform is linear in the FAP: the copy of largest |amplitude| defines it.
-  const DeformedCopy* ref = *std::ranges::max_element(
+  const FaceShape* ref = *std::ranges::max_element(
       group, [](auto* a, auto* b) { return std::abs(a->amplitude) < std::abs(b->amplitude); });
   const double refValue = ref->amplitude * scale;
   for (std::size_t t = 0; t < neutral.transforms.size(); ++t) {
     const Transform& t0 = neutral.transforms[t];
-    const Transform& t1 = ref->model.transforms[t];
+    const Transform& t1 = shapeTransforms(neutral, *ref)[t];
     const std::size_t first = table.faceDefTransform.size();
     const Eigen::AngleAxisd turn(t0.rotation.inverse() * t1.rotation);
     if (std::abs(turn.angle()) * size > threshold) {
@@ -185,13 +170,13 @@ void addTransforms(const FaceModel& neutral, const Group& group, double scale, d
       d.translationDef = (t1.translation - t0.translation) / refValue;
     }
     // Every other copy must be what the definitions predict at its amplitude.
-    for (const DeformedCopy* c : group) {
+    for (const FaceShape* c : group) {
       if (c == ref) continue;
       Transform predicted = t0;
       for (std::size_t k = first; k < table.faceDefTransform.size(); ++k) {
         applyFaceDefTransform(table.faceDefTransform[k], c->amplitude * scale, predicted);
       }
-      const Transform& actual = c->model.transforms[t];
+      const Transform& actual = shapeTransforms(neutral, *c)[t];
       const double off = std::max(
           {std::abs(Eigen::AngleAxisd(predicted.rotation.inverse() * actual.rotation).angle()) *
                size,
@@ -210,18 +195,18 @@ void addTransforms(const FaceModel& neutral, const Group& group, double scale, d
 }  // namespace
 
 GeneratedTables generateFaceDefTables(const FaceModel& neutral, const FapuMeasurement& fapu,
-                                      std::span<const DeformedCopy> copies,
+                                      std::span<const FaceShape> copies,
                                       const GeneratorOptions& options) {
   neutral.validate();
   std::map<std::pair<int, int>, Group> groups;
-  for (const DeformedCopy& copy : copies) {
+  for (const FaceShape& copy : copies) {
     checkCopy(neutral, copy);
     groups[{copy.fapID, copy.fapID <= 2 ? copy.highLevelSelect : 0}].push_back(&copy);
   }
   const double size = headSize(neutral);
   GeneratedTables result;
   for (auto& [key, group] : groups) {
-    std::ranges::stable_sort(group, {}, &DeformedCopy::amplitude);
+    std::ranges::stable_sort(group, {}, &FaceShape::amplitude);
     for (std::size_t i = 1; i < group.size(); ++i) {
       if (group[i]->amplitude == group[i - 1]->amplitude) {
         throw Error({}, 0, copyField(*group[i]),

@@ -471,14 +471,17 @@ bool MotionCheck::passed() const {
 
 MotionCheck checkMotion(const FaceModel& head, std::span<const FapStream> streams,
                         const MotionLimits& limits, const MotionProgress& progress) {
-  const ShapeKeyCopies copies = deformedCopiesFromShapeKeys(head);
+  const ShapeKeyCopies copies = shapesFromShapeKeys(head);
   const ShapeKeyFace generated = faceFromShapeKeys(head);
   const FaceModel& neutral = generated.face.faceSceneGraph;
   Checker checker(neutral, limits);
   const std::size_t total = copies.copies.size() + frameCount(streams);
-  for (const DeformedCopy& copy : copies.copies) {
+  for (const FaceShape& copy : copies.copies) {
+    // The whole pose: what the check measures (edges, triangles) spans the meshes.
     std::vector<Points3> coord;
-    for (const IndexedFaceSet& mesh : copy.model.meshes) coord.push_back(mesh.coord);
+    for (IndexedFaceSet& mesh : deformedModel(neutral, copy).meshes) {
+      coord.push_back(std::move(mesh.coord));
+    }
     checker.addKey(checker.check(coord, copy.name), total, progress);
   }
   const FatEvaluator evaluator(generated.face, measureFapu(neutral));

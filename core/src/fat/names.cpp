@@ -189,11 +189,11 @@ Eigen::VectorXd finalValue(const TransformChannel& channel, const FaceModel& mod
 // and animations alike.
 class CopyCollector {
  public:
-  explicit CopyCollector(const FaceModel& model) : basis_(neutralFaceModel(model)) {}
+  explicit CopyCollector(const FaceModel& model) : transforms_(model.transforms) {}
 
   // The copy named `name`, made from the basis on first use; nullptr for a name that is not
   // ours (remembered as ignored). `field` names the name's place for a malformed one.
-  DeformedCopy* copy(const std::string& name, const std::string& field) {
+  FaceShape* copy(const std::string& name, const std::string& field) {
     std::optional<ShapeKeyName> key;
     try {
       key = parseShapeKeyName(name);
@@ -206,27 +206,29 @@ class CopyCollector {
     }
     auto [it, added] = copyOf_.try_emplace(name, out.copies.size());
     if (added) {
-      DeformedCopy& copy = out.copies.emplace_back();
+      FaceShape& copy = out.copies.emplace_back();
       copy.name = name;
       copy.fapID = key->fapID;
       copy.highLevelSelect = key->highLevelSelect;
       copy.amplitude = key->amplitude;
-      copy.model = basis_;
     }
     return &out.copies[it->second];
   }
 
+  // The basis's Transforms, which a pose starts from.
+  const std::vector<Transform>& transforms() const { return transforms_; }
+
   ShapeKeyCopies out;
 
  private:
-  FaceModel basis_;
+  std::vector<Transform> transforms_;
   std::map<std::string, std::size_t> copyOf_;
   std::set<std::string> ignored_;
 };
 
 }  // namespace
 
-ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model) {
+ShapeKeyCopies shapesFromShapeKeys(const FaceModel& model) {
   model.validate();
   CopyCollector collector(model);
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {
@@ -234,12 +236,14 @@ ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model) {
     std::set<std::string> onThisMesh;
     for (const MorphTarget& target : mesh.morphTargets) {
       const std::string field = "mesh '" + mesh.name + "' morph target " + text::quote(target.name);
-      DeformedCopy* copy = collector.copy(target.name, field);
+      FaceShape* copy = collector.copy(target.name, field);
       if (copy == nullptr) continue;
       if (!onThisMesh.insert(target.name).second) {
         throw Error({}, 0, field, "appears twice on this mesh");
       }
-      copy->model.meshes[m].coord += target.displacements;
+      // Meshes are visited ascending, each once per name: copy->meshes stays ascending.
+      MeshDisplacement d = sparseDisplacement(static_cast<int>(m), target.displacements);
+      if (!d.vertices.empty()) copy->meshes.push_back(std::move(d));
     }
   }
   // A pose: the transforms an animation of our name ends on (eyes, jaw, head as objects or
@@ -247,11 +251,12 @@ ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model) {
   for (const MorphWeightAnimation& animation : model.animations) {
     if (animation.transformChannels.empty()) continue;
     const std::string field = "animation " + text::quote(animation.name);
-    DeformedCopy* copy = collector.copy(animation.name, field);
+    FaceShape* copy = collector.copy(animation.name, field);
     if (copy == nullptr) continue;
     for (const TransformChannel& channel : animation.transformChannels) {
       const Eigen::VectorXd v = finalValue(channel, model, field);
-      Transform& t = copy->model.transforms[static_cast<std::size_t>(channel.transform)];
+      if (copy->transforms.empty()) copy->transforms = collector.transforms();
+      Transform& t = copy->transforms[static_cast<std::size_t>(channel.transform)];
       switch (channel.path) {
         case TransformChannel::Path::Translation:
           t.translation = v;
@@ -269,7 +274,7 @@ ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model) {
 }
 
 ShapeKeyFace faceFromShapeKeys(const FaceModel& model, const GeneratorOptions& options) {
-  ShapeKeyCopies keys = deformedCopiesFromShapeKeys(model);
+  ShapeKeyCopies keys = shapesFromShapeKeys(model);
   ShapeKeyFace out;
   // The basis scene graph is the neutral face: the targets are what the tables replace.
   out.face.faceSceneGraph = neutralFaceModel(model);

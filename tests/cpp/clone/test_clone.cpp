@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -48,36 +49,37 @@ Candide candide() {
 
 // CANDIDE's MPEG-4 action units as copies at `amplitude`, moved as the file says (a unit's
 // displacement is in its FAPU: docs/fat.md).
-std::vector<DeformedCopy> candideCopies(const Candide& c, int amplitude) {
+std::vector<FaceShape> candideCopies(const Candide& c, int amplitude) {
   const FapuMeasurement fapu = measureFapu(c.neutral);
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   for (const CandideUnit& u : c.file.animationUnits) {
     if (u.fap == 0) continue;
     double unit = fapu.unit(fapInfo(u.fap).fapu);
     for (const FapuInfo& info : fapuTable()) {
       if (info.name == u.fapu) unit = fapu.unit(info.kind);
     }
-    DeformedCopy& copy = copies.emplace_back();
+    FaceShape& copy = copies.emplace_back();
     copy.name = u.name;
     copy.fapID = u.fap;
     copy.amplitude = amplitude;
-    copy.model = c.neutral;
+    Points3 motion = Points3::Zero(c.neutral.meshes[0].coord.rows(), 3);
     for (std::size_t i = 0; i < u.vertices.size(); ++i) {
-      copy.model.meshes[0].coord.row(u.vertices[i]) +=
+      motion.row(u.vertices[i]) +=
           amplitude * unit * u.displacements.row(static_cast<Eigen::Index>(i));
     }
+    copy.meshes.push_back(sparseDisplacement(0, motion));
   }
   return copies;
 }
 
-const DeformedCopy& copyOf(std::span<const DeformedCopy> copies, int fap) {
-  return *std::find_if(copies.begin(), copies.end(),
-                       [&](const DeformedCopy& c) { return c.fapID == fap; });
+Points3 motionOf(const FaceShape& copy, const FaceModel& neutral, int mesh = 0) {
+  return denseDisplacement(copy, mesh,
+                           neutral.meshes[static_cast<std::size_t>(mesh)].vertexCount());
 }
 
-Points3 motionOf(const DeformedCopy& copy, const FaceModel& neutral, int mesh = 0) {
-  return copy.model.meshes[static_cast<std::size_t>(mesh)].coord -
-         neutral.meshes[static_cast<std::size_t>(mesh)].coord;
+const FaceShape& copyOf(std::span<const FaceShape> copies, int fap) {
+  return *std::find_if(copies.begin(), copies.end(),
+                       [&](const FaceShape& c) { return c.fapID == fap; });
 }
 
 double maxRowNorm(const Points3& p) { return p.rows() == 0 ? 0.0 : p.rowwise().norm().maxCoeff(); }
@@ -100,7 +102,7 @@ TEST(Clone, MappingDoesNotNeedEyeCentres) {
 // vertex's motion, not the outer surface's).
 TEST(Clone, CloningAHeadOntoItselfReproducesItsMotion) {
   const Candide c = candide();
-  const std::vector<DeformedCopy> copies = candideCopies(c, 600);
+  const std::vector<FaceShape> copies = candideCopies(c, 600);
   ASSERT_EQ(copies.size(), 54u);
   const double s = 2.5;
   FaceModel moved = c.neutral;
@@ -124,7 +126,7 @@ TEST(Clone, CloningAHeadOntoItselfReproducesItsMotion) {
         EXPECT_EQ(r.copies[i].fapID, copies[i].fapID);
         EXPECT_EQ(r.copies[i].amplitude, copies[i].amplitude);
         const Points3 expected = scale * motionOf(copies[i], c.neutral);
-        const double error = maxRowNorm(motionOf(deformedCopy(r, i), *target) - expected);
+        const double error = maxRowNorm(motionOf(r.copies[i], *target) - expected);
         worst = std::max(worst, error / maxRowNorm(expected));
         if (exact) {
           EXPECT_LE(error, 0.02 * maxRowNorm(expected))
@@ -152,11 +154,11 @@ TEST(Clone, CloningOntoAScaledCopyScalesTheMotion) {
   const CloneResult b = cloneDeformedCopies(c.neutral, copies, transformed);
   const CloneResult same = cloneDeformedCopies(c.neutral, copies, c.neutral);
   for (std::size_t i = 0; i < copies.size(); ++i) {
-    const Points3 reference = motionOf(deformedCopy(same, i), c.neutral);
+    const Points3 reference = motionOf(same.copies[i], c.neutral);
     const double tolerance = 1e-9 * (1 + maxRowNorm(reference));
-    EXPECT_LE(maxRowNorm(motionOf(deformedCopy(a, i), scaled) - s * reference), s * tolerance)
+    EXPECT_LE(maxRowNorm(motionOf(a.copies[i], scaled) - s * reference), s * tolerance)
         << copies[i].name;
-    EXPECT_LE(maxRowNorm(motionOf(deformedCopy(b, i), transformed) - reference), tolerance)
+    EXPECT_LE(maxRowNorm(motionOf(b.copies[i], transformed) - reference), tolerance)
         << copies[i].name;
     EXPECT_GT(maxRowNorm(reference), 0) << copies[i].name;
   }
@@ -222,12 +224,11 @@ TEST(Clone, LipRegionsAreKeptApart) {
     const double size = source.row(moving).norm();
     ASSERT_GT(size, 0);
     ASSERT_EQ(source.row(still).norm(), 0);
-    const Points3 motion = motionOf(copyOf(deformedCopies(kept), fap), target);
+    const Points3 motion = motionOf(copyOf(kept.copies, fap), target);
     EXPECT_GT(motion.row(moving).norm(), 0.8 * size) << fap;
     EXPECT_LT(motion.row(still).norm(), 0.05 * size) << fap;
     // Without the rule the lip that should stay is pulled along.
-    EXPECT_GT(motionOf(copyOf(deformedCopies(mixed), fap), target).row(still).norm(), 0.05 * size)
-        << fap;
+    EXPECT_GT(motionOf(copyOf(mixed.copies, fap), target).row(still).norm(), 0.05 * size) << fap;
   }
 }
 
@@ -276,14 +277,16 @@ TEST(Clone, LipCornersBelongToBothLips) {
   // stretch_l_cornerlip moves CANDIDE's corner 2.4: on MakeHuman the lower lip follows as the
   // upper does (their largest motion).
   const auto copies = candideCopies(c, 600);
-  const std::vector<DeformedCopy> stretch{copyOf(copies, 6)};
-  const DeformedCopy cloned = deformedCopy(cloneDeformedCopies(c.neutral, stretch, human), 0);
+  const std::vector<FaceShape> stretch{copyOf(copies, 6)};
+  const FaceShape cloned = cloneDeformedCopies(c.neutral, stretch, human).copies[0];
+  std::vector<Points3> motion;
+  for (std::size_t m = 0; m < human.meshes.size(); ++m) {
+    motion.push_back(motionOf(cloned, human, static_cast<int>(m)));
+  }
   double upperMotion = 0, lowerMotion = 0;
   for (std::size_t r = 0; r < target.owner.size(); ++r) {
     const auto [mesh, vertex] = target.owner[r];
-    const double m = (cloned.model.meshes[static_cast<std::size_t>(mesh)].coord.row(vertex) -
-                      human.meshes[static_cast<std::size_t>(mesh)].coord.row(vertex))
-                         .norm();
+    const double m = motion[static_cast<std::size_t>(mesh)].row(vertex).norm();
     if (map.targetLips[r] == clone::LipRegion::Upper) upperMotion = std::max(upperMotion, m);
     if (map.targetLips[r] == clone::LipRegion::Lower) lowerMotion = std::max(lowerMotion, m);
   }
@@ -300,7 +303,7 @@ TEST(Clone, OpenJawOntoMakeHumanMovesTheChinByFapuAndLeavesTheForehead) {
     GTEST_SKIP() << "tests/data/makehuman/feature_points.csv not there yet";
   }
   const Candide c = candide();
-  std::vector<DeformedCopy> copies = candideCopies(c, 512);
+  std::vector<FaceShape> copies = candideCopies(c, 512);
   copies = {copyOf(copies, 3)};
   FaceModel human = readObj(dir / "base.obj");
   human.featurePoints = readFeaturePointCsv(dir / "feature_points.csv", human).featurePoints;
@@ -312,7 +315,7 @@ TEST(Clone, OpenJawOntoMakeHumanMovesTheChinByFapuAndLeavesTheForehead) {
   const double expected = sourceDrop / sourceFapu.MNS0.value * targetFapu.MNS0.value;
   ASSERT_LT(expected, 0);
   const FeaturePointBinding chin = human.featurePoints.at("2.1");
-  const double drop = motionOf(deformedCopy(r, 0), human, chin.mesh)(chin.vertex, 1);
+  const double drop = motionOf(r.copies[0], human, chin.mesh)(chin.vertex, 1);
   std::printf("2.1 moves %.5f, FAPU-scaled source motion %.5f (%.1f%%)\n", drop, expected,
               100 * drop / expected);
   // Feature points move exactly by the FAPU-scaled source motion (the smoothing of a coarse
@@ -329,7 +332,7 @@ TEST(Clone, OpenJawOntoMakeHumanMovesTheChinByFapuAndLeavesTheForehead) {
   int forehead = 0;
   double moved = 0;
   for (std::size_t m = 0; m < human.meshes.size(); ++m) {
-    const Points3 motion = motionOf(deformedCopy(r, 0), human, static_cast<int>(m));
+    const Points3 motion = motionOf(r.copies[0], human, static_cast<int>(m));
     for (int v = 0; v < human.meshes[m].vertexCount(); ++v) {
       const Eigen::Vector3d p = world[m] * human.meshes[m].coord.row(v).transpose();
       if (p.y() > brow.y() + 0.1 * (hair.y() - brow.y()) && p.y() < hair.y() && p.z() > frontZ &&
@@ -345,7 +348,7 @@ TEST(Clone, OpenJawOntoMakeHumanMovesTheChinByFapuAndLeavesTheForehead) {
   // edge (CloneOptions::outsideFalloff).
   double body = 0;
   for (std::size_t m = 0; m < human.meshes.size(); ++m) {
-    const Points3 motion = motionOf(deformedCopy(r, 0), human, static_cast<int>(m));
+    const Points3 motion = motionOf(r.copies[0], human, static_cast<int>(m));
     for (int v = 0; v < human.meshes[m].vertexCount(); ++v) {
       const Eigen::Vector3d p = world[m] * human.meshes[m].coord.row(v).transpose();
       if (p.y() < human.featurePointPosition("2.1")->y() - 5 * targetFapu.MNS0.value) {
@@ -374,30 +377,43 @@ TEST(Clone, MissingFeaturePointsAreAllListed) {
 
 TEST(Clone, ACopyOfOtherTopologyIsNamed) {
   const Candide c = candide();
-  auto copies = candideCopies(c, 300);
-  copies[4].name = "broken shape";
-  copies[4].model.meshes[0].coord.conservativeResize(100, 3);
-  Error e = errorOf([&] { cloneDeformedCopies(c.neutral, copies, c.neutral); });
+  // A whole deformed model becomes a shape at the edge (shapeFromDeformedModel), which checks
+  // it against the neutral.
+  FaceModel broken = c.neutral;
+  broken.meshes[0].coord.conservativeResize(100, 3);
+  Error e = errorOf([&] { shapeFromDeformedModel(c.neutral, broken, "broken shape"); });
   EXPECT_EQ(e.field(), "copy 'broken shape' mesh 'candide3'");
   EXPECT_TRUE(contains(e.what(), "100 vertices")) << e.what();
-  copies = candideCopies(c, 300);
-  copies[2].name = "nan shape";
-  copies[2].model.meshes[0].coord(5, 0) = NAN;
-  e = errorOf([&] { cloneDeformedCopies(c.neutral, copies, c.neutral); });
+  FaceModel nan = c.neutral;
+  nan.meshes[0].coord(5, 0) = NAN;
+  e = errorOf([&] { shapeFromDeformedModel(c.neutral, nan, "nan shape"); });
   EXPECT_EQ(e.field(), "copy 'nan shape' mesh 'candide3'");
   EXPECT_TRUE(contains(e.what(), "vertex 5 is not a finite number")) << e.what();
   // Vertices renumbered (the faces with them): the counts agree, the faces do not.
-  copies = candideCopies(c, 300);
-  copies[1].name = "renumbered shape";
-  IndexedFaceSet& renumbered = copies[1].model.meshes[0];
-  const int n = renumbered.vertexCount();
-  renumbered.coord = renumbered.coord.colwise().reverse().eval();
-  for (int& corner : renumbered.coordIndex) {
+  FaceModel renumbered = c.neutral;
+  IndexedFaceSet& mesh = renumbered.meshes[0];
+  const int n = mesh.vertexCount();
+  mesh.coord = mesh.coord.colwise().reverse().eval();
+  for (int& corner : mesh.coordIndex) {
     if (corner >= 0) corner = n - 1 - corner;
   }
-  e = errorOf([&] { cloneDeformedCopies(c.neutral, copies, c.neutral); });
+  e = errorOf([&] { shapeFromDeformedModel(c.neutral, renumbered, "renumbered shape"); });
   EXPECT_EQ(e.field(), "copy 'renumbered shape' mesh 'candide3'");
   EXPECT_TRUE(contains(e.what(), "other faces")) << e.what();
+  // The clone checks the shapes it is given.
+  auto copies = candideCopies(c, 300);
+  copies[2].name = "nan shape";
+  copies[2].meshes[0].displacement(0, 0) = NAN;
+  e = errorOf([&] { cloneDeformedCopies(c.neutral, copies, c.neutral); });
+  EXPECT_EQ(e.field(), "copy 'nan shape' mesh 'candide3'");
+  EXPECT_TRUE(contains(e.what(), "vertex " + std::to_string(copies[2].meshes[0].vertices[0]) +
+                                     " is not a finite number"))
+      << e.what();
+  copies = candideCopies(c, 300);
+  copies[4].name = "broken shape";
+  copies[4].meshes[0].vertices.back() = c.neutral.meshes[0].vertexCount();
+  e = errorOf([&] { cloneDeformedCopies(c.neutral, copies, c.neutral); });
+  EXPECT_EQ(e.field(), "copy 'broken shape' mesh 'candide3'");
 }
 
 // FAPs, a viseme and an expression: cloneFace gives each copy its table (visemes as FAP 1 and
@@ -409,15 +425,13 @@ TEST(Clone, CloneFaceMakesTablesThatReproduceTheCopies) {
   // and stretches the lip corners, expression 1 (joy) raises and stretches them.
   const auto made = [&](std::string name, int fap, int select,
                         std::initializer_list<std::pair<int, double>> units) {
-    DeformedCopy copy{std::move(name), fap, select, 63, c.neutral};
-    for (const auto& [unit, weight] : units) {
-      copy.model.meshes[0].coord += weight * motionOf(copyOf(copies, unit), c.neutral);
-    }
-    return copy;
+    Points3 motion = Points3::Zero(c.neutral.meshes[0].coord.rows(), 3);
+    for (const auto& [unit, weight] : units)
+      motion += weight * motionOf(copyOf(copies, unit), c.neutral);
+    return FaceShape{std::move(name), fap, select, 63, {sparseDisplacement(0, motion)}, {}};
   };
-  const DeformedCopy viseme = made("viseme10_A", 1, 10, {{3, 1.0}, {6, 0.5}, {7, 0.5}});
-  const DeformedCopy joy =
-      made("expression1_joy", 2, 1, {{12, 1.0}, {13, 1.0}, {6, 0.3}, {7, 0.3}});
+  const FaceShape viseme = made("viseme10_A", 1, 10, {{3, 1.0}, {6, 0.5}, {7, 0.5}});
+  const FaceShape joy = made("expression1_joy", 2, 1, {{12, 1.0}, {13, 1.0}, {6, 0.3}, {7, 0.3}});
   copies.push_back(viseme);
   copies.push_back(joy);
   FaceModel scaled = c.neutral;
@@ -436,8 +450,8 @@ TEST(Clone, CloneFaceMakesTablesThatReproduceTheCopies) {
   }
   // The high-level copies carry their own motion over: the source's, scaled with the face
   // (a scaled copy is cloned exactly, CloningOntoAScaledCopyScalesTheMotion).
-  for (const DeformedCopy* source : {&viseme, &joy}) {
-    const DeformedCopy& cloned = copyOf(f.copies, source->fapID);
+  for (const FaceShape* source : {&viseme, &joy}) {
+    const FaceShape& cloned = copyOf(f.copies, source->fapID);
     EXPECT_EQ(cloned.highLevelSelect, source->highLevelSelect);
     EXPECT_EQ(cloned.amplitude, 63);
     const Points3 expected = 1.7 * motionOf(*source, c.neutral);
@@ -448,12 +462,62 @@ TEST(Clone, CloneFaceMakesTablesThatReproduceTheCopies) {
   // Each table, evaluated at its copy's amplitude (viseme_blend or expression intensity for
   // the high-level ones), moves the target as the cloned copy does.
   const FatEvaluator eval(f.face, measureFapu(scaled));
-  for (const DeformedCopy& copy : f.copies) {
+  for (const FaceShape& copy : f.copies) {
     const double largest = maxRowNorm(motionOf(copy, scaled));
-    EXPECT_LE(mpeg4face::test::farthest(eval.evaluate(mpeg4face::test::frameFor(copy)), scaled,
-                                        copy.model),
-              1e-4 * std::max(largest, 1e-9))
+    EXPECT_LE(
+        mpeg4face::test::farthest(eval.evaluate(mpeg4face::test::frameFor(copy)), scaled, copy),
+        1e-4 * std::max(largest, 1e-9))
         << copy.name;
+  }
+}
+
+// The clone's output is the generator's input as it is (cloneFace hands its shapes over
+// without making whole models of them), and the tables are those that going through whole
+// models (the neutral moved by each shape, read back) gives.
+TEST(Clone, TheClonedShapesFeedTheGeneratorAsTheyAre) {
+  static_assert(std::is_same_v<decltype(CloneResult::copies), std::vector<FaceShape>>);
+  static_assert(std::is_same_v<decltype(ClonedFace::copies), std::vector<FaceShape>>);
+  const Candide c = candide();
+  const auto copies = candideCopies(c, 400);
+  FaceModel target = c.neutral;
+  target.meshes[0].coord *= 1.3;
+  const CloneResult r = cloneDeformedCopies(c.neutral, copies, target);
+  const FapuMeasurement fapu = measureFapu(r.targetNeutral);
+  const GeneratedTables direct = generateFaceDefTables(r.targetNeutral, fapu, r.copies);
+  std::vector<FaceShape> viaModels;
+  for (const FaceShape& s : r.copies) {
+    FaceShape back =
+        shapeFromDeformedModel(r.targetNeutral, deformedModel(r.targetNeutral, s), s.name);
+    back.fapID = s.fapID;
+    back.highLevelSelect = s.highLevelSelect;
+    back.amplitude = s.amplitude;
+    viaModels.push_back(std::move(back));
+  }
+  const GeneratedTables before = generateFaceDefTables(r.targetNeutral, fapu, viaModels);
+  const ClonedFace f = cloneFace(c.neutral, copies, target);
+  ASSERT_EQ(direct.faceDefTables.size(), copies.size());
+  ASSERT_EQ(before.faceDefTables.size(), direct.faceDefTables.size());
+  ASSERT_EQ(f.face.faceDefTables.size(), direct.faceDefTables.size());
+  for (std::size_t i = 0; i < direct.faceDefTables.size(); ++i) {
+    const FaceDefTables& a = direct.faceDefTables[i];
+    const FaceDefTables& b = before.faceDefTables[i];
+    const FaceDefTables& g = f.face.faceDefTables[i];
+    EXPECT_EQ(a.fapID, b.fapID);
+    ASSERT_EQ(a.faceDefMesh.size(), b.faceDefMesh.size()) << a.fapID;
+    ASSERT_EQ(a.faceDefMesh.size(), g.faceDefMesh.size()) << a.fapID;
+    for (std::size_t m = 0; m < a.faceDefMesh.size(); ++m) {
+      const FaceDefMesh& x = a.faceDefMesh[m];
+      const FaceDefMesh& y = b.faceDefMesh[m];
+      EXPECT_EQ(x.mesh, y.mesh);
+      EXPECT_EQ(x.intervalBorders, y.intervalBorders);
+      EXPECT_EQ(x.coordIndex, y.coordIndex) << a.fapID;
+      ASSERT_EQ(x.displacements.rows(), y.displacements.rows());
+      EXPECT_LE((x.displacements - y.displacements).cwiseAbs().maxCoeff(),
+                1e-9 * x.displacements.cwiseAbs().maxCoeff())
+          << a.fapID;
+      EXPECT_EQ(g.faceDefMesh[m].coordIndex, x.coordIndex);  // cloneFace: the same path
+      EXPECT_EQ(g.faceDefMesh[m].displacements, x.displacements);
+    }
   }
 }
 
@@ -471,20 +535,18 @@ TEST(Clone, EyeRotationGoesThroughTheRigidParts) {
   const int eyeTransform = *source.findTransform("LeftEye");
   source.transforms[static_cast<std::size_t>(eyeTransform)].translation = {0.304, 0.16, -0.03};
   source.featurePoints["3.5"] = {eyeMesh, 0, Eigen::Vector3d::Zero()};
-  DeformedCopy look;
-  look.name = "look left";
+  FaceModel looking = source;
+  looking.transforms[static_cast<std::size_t>(eyeTransform)].rotation =
+      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
+  FaceShape look = shapeFromDeformedModel(source, looking, "look left");
   look.fapID = 23;
   look.amplitude = 20000;
-  look.model = source;
-  look.model.transforms[static_cast<std::size_t>(eyeTransform)].rotation =
-      Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
   FaceModel target = source;
   target.meshes[0].coord *= 1.5;
   target.transforms[static_cast<std::size_t>(eyeTransform)].translation *= 1.5;
-  const std::vector<DeformedCopy> copies{look};
+  const std::vector<FaceShape> copies{look};
   const CloneResult r = cloneDeformedCopies(source, copies, target);
-  const DeformedCopy cloned = deformedCopy(r, 0);
-  const FaceModel& out = cloned.model;
+  const FaceModel out = deformedModel(r.targetNeutral, r.copies[0]);
   const Eigen::AngleAxisd turn(
       out.transforms[static_cast<std::size_t>(eyeTransform)].rotation *
       r.targetNeutral.transforms[static_cast<std::size_t>(eyeTransform)].rotation.inverse());

@@ -105,15 +105,14 @@ TEST(CloneRemesh, ADenseFaceOntoItsRemeshesKeepsItsMotion) {
                                                                {"funnel", "mouth-protusion"},
                                                                {"stretch", "mouth-retraction"},
                                                                {"brow", "eyebrows-left-up"}};
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   std::vector<Points3> motions;
   for (const auto& [label, unit] : units) {
     motions.push_back(unitMotion(head, unit));
     ASSERT_GT(motions.back().rowwise().norm().maxCoeff(), 0) << unit;
-    DeformedCopy& copy = copies.emplace_back();
+    FaceShape& copy = copies.emplace_back();
     copy.name = label;
-    copy.model = head;
-    copy.model.meshes[0].coord += motions.back();
+    copy.meshes.push_back(sparseDisplacement(0, motions.back()));
   }
   // Coarser: decimated (the survivors' motion is the unit's at them). Finer: subdivided twice
   // (modified butterfly, linear in the positions: the motion subdivides with them), then
@@ -121,8 +120,9 @@ TEST(CloneRemesh, ADenseFaceOntoItsRemeshesKeepsItsMotion) {
   const FaceModel coarse = decimateFaceModel(head, 4000.0 / n);
   FaceModel fine = subdivideFaceModel(head, 2);
   std::vector<Points3> fineMotions;
-  for (const DeformedCopy& copy : copies) {
-    fineMotions.push_back(subdivideFaceModel(copy.model, 2).meshes[0].coord - fine.meshes[0].coord);
+  for (const FaceShape& copy : copies) {
+    fineMotions.push_back(subdivideFaceModel(deformedModel(head, copy), 2).meshes[0].coord -
+                          fine.meshes[0].coord);
   }
   const FaceModel dense = decimateFaceModel(fine, 45000.0 / fine.meshes[0].vertexCount());
   std::printf("MakeHuman head %d vertices; remeshes %d and %d vertices\n", n,
@@ -135,7 +135,7 @@ TEST(CloneRemesh, ADenseFaceOntoItsRemeshesKeepsItsMotion) {
         survivors(finer ? fine.meshes[0].coord : head.meshes[0].coord, target->meshes[0].coord);
     const CloneResult r = cloneDeformedCopies(head, copies, *target, options);
     for (std::size_t u = 0; u < copies.size(); ++u) {
-      const Points3 cloned = deformedCopy(r, u).model.meshes[0].coord - target->meshes[0].coord;
+      const Points3 cloned = denseDisplacement(r.copies[u], 0, target->meshes[0].vertexCount());
       const Points3& reference = finer ? fineMotions[u] : motions[u];
       const double peak = reference.rowwise().norm().maxCoeff();
       // The error over the vertices that move (either field above 1% of the peak).

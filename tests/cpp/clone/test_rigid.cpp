@@ -161,11 +161,12 @@ FaceModel syntheticFace(const FaceSpec& spec = {}) {
   return m;
 }
 
-DeformedCopy copyOf(const FaceModel& neutral, const std::string& name) {
-  DeformedCopy c;
+// A copy that moves nothing yet: the neutral's Transforms, for the test to change.
+FaceShape copyOf(const FaceModel& neutral, const std::string& name) {
+  FaceShape c;
   c.name = name;
   c.amplitude = 100;
-  c.model = neutral;
+  c.transforms = neutral.transforms;
   return c;
 }
 
@@ -206,21 +207,21 @@ bool mentions(const std::vector<std::string>& warnings, const std::string& text)
 
 // A source whose copies move every part: each eye turns, the head turns, the upper teeth,
 // the jaw and the tongue translate.
-std::vector<DeformedCopy> movingCopies(const FaceModel& source) {
-  std::vector<DeformedCopy> copies;
+std::vector<FaceShape> movingCopies(const FaceModel& source) {
+  std::vector<FaceShape> copies;
   for (const char* eye : {"EyeL", "EyeR"}) {
-    DeformedCopy c = copyOf(source, std::string("turn ") + eye);
-    Transform& t = c.model.transforms[transformIndex(source, eye)];
+    FaceShape c = copyOf(source, std::string("turn ") + eye);
+    Transform& t = c.transforms[transformIndex(source, eye)];
     t.rotation = t.rotation * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
     copies.push_back(std::move(c));
   }
   for (const char* part : {"UpperTeethX", "JawX", "TongueX"}) {
-    DeformedCopy c = copyOf(source, std::string("move ") + part);
-    c.model.transforms[transformIndex(source, part)].translation += Eigen::Vector3d(0, -0.006, 0);
+    FaceShape c = copyOf(source, std::string("move ") + part);
+    c.transforms[transformIndex(source, part)].translation += Eigen::Vector3d(0, -0.006, 0);
     copies.push_back(std::move(c));
   }
-  DeformedCopy c = copyOf(source, "head yaw");
-  c.model.transforms[transformIndex(source, "Head")].rotation =
+  FaceShape c = copyOf(source, "head yaw");
+  c.transforms[transformIndex(source, "Head")].rotation =
       Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
   copies.push_back(std::move(c));
   return copies;
@@ -321,11 +322,11 @@ TEST(CloneRigid, EyeRotationIsClonedAsItIsAboutTheTargetEyeCentre) {
   // The source eye Transform is tilted in the neutral: its local y axis is not the model's.
   const double tilt = 0.5, angle = 0.3, s = 1.5;
   const FaceModel source = syntheticFace({.eyeTilt = tilt});
-  DeformedCopy turn = copyOf(source, "turn");
-  Transform& eye = turn.model.transforms[transformIndex(source, "EyeL")];
+  FaceShape turn = copyOf(source, "turn");
+  Transform& eye = turn.transforms[transformIndex(source, "EyeL")];
   eye.rotation = eye.rotation * Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY());
   FaceModel target = syntheticFace({.scale = s, .eyesAtOrigin = true});
-  const std::vector<DeformedCopy> copies = {turn};
+  const std::vector<FaceShape> copies = {turn};
   const RigidPartMap map = matchRigidParts(source, copies, target);
   ASSERT_EQ(map.parts.size(), 1u);
   EXPECT_TRUE(map.warnings.empty());
@@ -352,10 +353,10 @@ TEST(CloneRigid, EyeRotationIsClonedAsItIsAboutTheTargetEyeCentre) {
 TEST(CloneRigid, HeadTurnIsTheHeadsNotTheEyes) {
   // Only the head turns, about the origin; the eyes' own Transforms stay still.
   const FaceModel source = syntheticFace();
-  DeformedCopy yaw = copyOf(source, "yaw");
+  FaceShape yaw = copyOf(source, "yaw");
   const Eigen::Matrix3d r = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  yaw.model.transforms[0].rotation = Eigen::Quaterniond(r);
-  const std::vector<DeformedCopy> copies = {yaw};
+  yaw.transforms[0].rotation = Eigen::Quaterniond(r);
+  const std::vector<FaceShape> copies = {yaw};
   const double s = 1.5;  // ES0 ratio too
   FaceModel target = syntheticFace({.scale = s});
   const FaceModel before = target;
@@ -378,10 +379,10 @@ TEST(CloneRigid, HeadTurnIsTheHeadsNotTheEyes) {
 
 TEST(CloneRigid, InsertsATransformForEyesHeldWithTheSkin) {
   const FaceModel source = syntheticFace();
-  DeformedCopy turn = copyOf(source, "turn");
-  Transform& eye = turn.model.transforms[transformIndex(source, "EyeL")];
+  FaceShape turn = copyOf(source, "turn");
+  Transform& eye = turn.transforms[transformIndex(source, "EyeL")];
   eye.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX());
-  const std::vector<DeformedCopy> copies = {turn};
+  const std::vector<FaceShape> copies = {turn};
   FaceModel target = syntheticFace({.eyesInHead = true});
   const FaceModel before = target;
   const RigidPartMap map = matchRigidParts(source, copies, target);
@@ -416,11 +417,11 @@ TEST(CloneRigid, TeethAndTongueTranslationsScaleByMns0) {
   const FaceModel source = syntheticFace();                        // MNS0 = 0.03
   FaceModel target = syntheticFace({.scale = 1.5, .mns0 = 0.04});  // MNS0 = 1.5 * 0.04
   const double ratio = (1.5 * 0.04) / 0.03;                        // 2, not the size ratio 1.5
-  DeformedCopy open = copyOf(source, "open jaw");
+  FaceShape open = copyOf(source, "open jaw");
   const Eigen::Vector3d jawMove(0, -0.006, 0.001), tongueMove(0, 0, 0.004);
-  open.model.transforms[transformIndex(source, "JawX")].translation += jawMove;
-  open.model.transforms[transformIndex(source, "TongueX")].translation += tongueMove;
-  const std::vector<DeformedCopy> copies = {open};
+  open.transforms[transformIndex(source, "JawX")].translation += jawMove;
+  open.transforms[transformIndex(source, "TongueX")].translation += tongueMove;
+  const std::vector<FaceShape> copies = {open};
   const RigidPartMap map = matchRigidParts(source, copies, target);
   ASSERT_EQ(map.parts.size(), 2u);
   FaceModel moved = target;
@@ -449,10 +450,10 @@ TEST(CloneRigid, TeethAndTongueTranslationsScaleByMns0) {
 
 TEST(CloneRigid, MissingPartIsSkippedWithAWarning) {
   const FaceModel source = syntheticFace();
-  DeformedCopy c = copyOf(source, "tongue and jaw");
-  c.model.transforms[transformIndex(source, "TongueX")].translation += Eigen::Vector3d(0, 0, 0.004);
-  c.model.transforms[transformIndex(source, "JawX")].translation += Eigen::Vector3d(0, -0.004, 0);
-  const std::vector<DeformedCopy> copies = {c};
+  FaceShape c = copyOf(source, "tongue and jaw");
+  c.transforms[transformIndex(source, "TongueX")].translation += Eigen::Vector3d(0, 0, 0.004);
+  c.transforms[transformIndex(source, "JawX")].translation += Eigen::Vector3d(0, -0.004, 0);
+  const std::vector<FaceShape> copies = {c};
   // Target without tongue feature points: the tongue's motion is skipped, the jaw's is not.
   FaceModel target = syntheticFace({.tonguePoints = false});
   const RigidPartMap map = matchRigidParts(source, copies, target);
@@ -470,11 +471,11 @@ TEST(CloneRigid, MissingPartIsSkippedWithAWarning) {
 
   // Source without eye feature points but a moving eye Transform: warned, skipped.
   const FaceModel blind = syntheticFace({.eyePoints = false});
-  DeformedCopy look = copyOf(blind, "look");
-  look.model.transforms[transformIndex(blind, "EyeL")].rotation =
+  FaceShape look = copyOf(blind, "look");
+  look.transforms[transformIndex(blind, "EyeL")].rotation =
       Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
   FaceModel target2 = syntheticFace();
-  const std::vector<DeformedCopy> looks = {look};
+  const std::vector<FaceShape> looks = {look};
   const RigidPartMap m2 = matchRigidParts(blind, looks, target2);
   EXPECT_TRUE(m2.parts.empty());
   ASSERT_EQ(m2.warnings.size(), 1u);
@@ -493,10 +494,11 @@ FaceModel oneMeshFace() {
 
 TEST(CloneRigid, OneMeshFaceHasNoRigidParts) {
   const FaceModel source = oneMeshFace();
-  DeformedCopy smile = copyOf(source, "smile");
-  smile.model.meshes[0].coord(0, 0) += 0.01;  // vertex motion only
+  FaceShape smile = copyOf(source, "smile");
+  smile.transforms.clear();  // vertex motion only
+  smile.meshes.push_back({0, {0}, Points3(Eigen::RowVector3d(0.01, 0, 0))});
   FaceModel target = oneMeshFace();
-  const std::vector<DeformedCopy> copies = {smile};
+  const std::vector<FaceShape> copies = {smile};
   const RigidPartMap map = matchRigidParts(source, copies, target);
   EXPECT_TRUE(map.parts.empty());
   EXPECT_TRUE(map.sourceRigidMeshes.empty());
@@ -504,10 +506,10 @@ TEST(CloneRigid, OneMeshFaceHasNoRigidParts) {
   EXPECT_TRUE(map.warnings.empty());
   // The synthetic eyes onto the one-mesh face: no separate eye there, so a warning.
   const FaceModel eyes = syntheticFace();
-  DeformedCopy look = copyOf(eyes, "look");
-  look.model.transforms[transformIndex(eyes, "EyeL")].rotation =
+  FaceShape look = copyOf(eyes, "look");
+  look.transforms[transformIndex(eyes, "EyeL")].rotation =
       Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
-  const std::vector<DeformedCopy> looks = {look};
+  const std::vector<FaceShape> looks = {look};
   const RigidPartMap m2 = matchRigidParts(eyes, looks, target);
   EXPECT_TRUE(m2.parts.empty());
   ASSERT_EQ(m2.warnings.size(), 1u);
@@ -534,11 +536,11 @@ TEST(CloneRigid, MakeHumanGroupsAreFoundFromAFewFeaturePoints) {
   pick("9.15", "body", 2, true);
   human.featurePoints["7.2"] = {-1, -1, {0, 6.0, 0}};
   const FaceModel source = syntheticFace();
-  DeformedCopy turn = copyOf(source, "turn");
+  FaceShape turn = copyOf(source, "turn");
   const double angle = 0.25;
-  turn.model.transforms[transformIndex(source, "EyeL")].rotation =
+  turn.transforms[transformIndex(source, "EyeL")].rotation =
       Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitX());
-  const std::vector<DeformedCopy> copies = {turn};
+  const std::vector<FaceShape> copies = {turn};
   FaceModel target = human;
   const RigidPartMap map = matchRigidParts(source, copies, target);
   EXPECT_TRUE(map.warnings.empty()) << map.warnings.front();

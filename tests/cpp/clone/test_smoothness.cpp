@@ -17,22 +17,23 @@ namespace fixture = mpeg4face::clone_fixture;
 namespace {
 
 // Mean roughness of the cloned motion of every copy on `target`.
-double clonedRoughness(const FaceModel& source, const std::vector<DeformedCopy>& copies,
+double clonedRoughness(const FaceModel& source, const std::vector<FaceShape>& copies,
                        const FaceModel& target, CloneOptions options) {
   options.rigidParts = false;
   const CloneResult result = cloneDeformedCopies(source, copies, target, options);
   const IndexedFaceSet& mesh = result.targetNeutral.meshes[0];
   double sum = 0;
-  for (const DeformedCopy& c : deformedCopies(result)) {
-    sum += fixture::roughness(mesh, c.model.meshes[0].coord - mesh.coord);
+  for (const FaceShape& c : result.copies) {
+    sum += fixture::roughness(mesh, denseDisplacement(c, 0, mesh.vertexCount()));
   }
   return sum / static_cast<double>(result.copies.size());
 }
 
-double sourceRoughness(const FaceModel& source, const std::vector<DeformedCopy>& copies) {
+double sourceRoughness(const FaceModel& source, const std::vector<FaceShape>& copies) {
   double sum = 0;
-  for (const DeformedCopy& c : copies) {
-    sum += fixture::roughness(source.meshes[0], c.model.meshes[0].coord - source.meshes[0].coord);
+  for (const FaceShape& c : copies) {
+    sum += fixture::roughness(source.meshes[0],
+                              denseDisplacement(c, 0, source.meshes[0].vertexCount()));
   }
   return sum / static_cast<double>(copies.size());
 }
@@ -43,7 +44,7 @@ struct Roughness {
 
 // Without the filter (nor the smoothing), with the default (adaptive) one and with the
 // paper's fixed support.
-Roughness roughnessOf(const FaceModel& source, const std::vector<DeformedCopy>& copies,
+Roughness roughnessOf(const FaceModel& source, const std::vector<FaceShape>& copies,
                       const FaceModel& target) {
   CloneOptions off, fixed;
   off.filterSupport = 0;
@@ -62,7 +63,7 @@ Roughness roughnessOf(const FaceModel& source, const std::vector<DeformedCopy>& 
 TEST(CloneSmoothness, FilterSmoothsDenseSourceOnCoarseTarget) {
   const FaceModel candide = fixture::candide(mpeg4face::test::kData);
   const FaceModel dense = fixture::resampled(candide, 20000);
-  const std::vector<DeformedCopy> copies = fixture::syntheticCopies(dense, 1.0);
+  const std::vector<FaceShape> copies = fixture::syntheticCopies(dense, 1.0);
   ASSERT_EQ(copies.size(), 68u);
   std::printf(
       "roughness of the cloned motion (68 shapes with per-vertex detail, source %d vertices, "
@@ -81,7 +82,7 @@ TEST(CloneSmoothness, FilterSmoothsDenseSourceOnCoarseTarget) {
 TEST(CloneSmoothness, DenserTargetGetsSmoothMotion) {
   const FaceModel candide = fixture::candide(mpeg4face::test::kData);
   const FaceModel coarse = fixture::resampled(candide, 300);
-  const std::vector<DeformedCopy> copies = fixture::syntheticCopies(coarse, 1.0);
+  const std::vector<FaceShape> copies = fixture::syntheticCopies(coarse, 1.0);
   const double own = sourceRoughness(coarse, copies);
   std::printf("roughness onto a denser target (source %d vertices, its own %.4f)\n",
               coarse.meshes[0].vertexCount(), own);

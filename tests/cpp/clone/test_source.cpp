@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// deformedCopiesFromFaceDefTables: a source given by tables as deformed copies. Checked by
+// shapesFromFaceDefTables: a source given by tables as deformed copies. Checked by
 // hand on a small table set, and by a round trip: the generator (fat/generate.hpp) makes
 // tables from the copies that the evaluator animates like the original at random FAPs.
 #include <gtest/gtest.h>
@@ -31,8 +31,8 @@ FaceDefMesh meshTable(int mesh, std::vector<int> borders, std::vector<int> coord
   return m;
 }
 
-const DeformedCopy* findCopy(const std::vector<DeformedCopy>& copies, const std::string& name) {
-  for (const DeformedCopy& c : copies) {
+const FaceShape* findCopy(const std::vector<FaceShape>& copies, const std::string& name) {
+  for (const FaceShape& c : copies) {
     if (c.name == name) return &c;
   }
   return nullptr;
@@ -69,9 +69,9 @@ TEST(CloneSource, HandMadeTables) {
   face.faceDefTables.push_back({2, 1, {meshTable(0, {0, 30, 63, 100}, {10}, de)}, {}});
 
   const FapuMeasurement fapu = measureFapu(face.faceSceneGraph);
-  const std::vector<DeformedCopy> copies = deformedCopiesFromFaceDefTables(face, fapu);
+  const std::vector<FaceShape> copies = shapesFromFaceDefTables(face, fapu);
   std::vector<std::string> names;
-  for (const DeformedCopy& c : copies) names.push_back(c.name);
+  for (const FaceShape& c : copies) names.push_back(c.name);
   EXPECT_EQ(names,
             (std::vector<std::string>{"fap3_open_jaw@-100", "fap3_open_jaw@200",
                                       "fap3_open_jaw@600", "fap6_stretch_l_cornerlip@-300",
@@ -82,15 +82,16 @@ TEST(CloneSource, HandMadeTables) {
   // The evaluator sums motion in float: 1e-8 is a few float steps of these 0.03-unit motions.
   const auto expectMoved = [&](const std::string& name, int fapID, int select, int amplitude,
                                const std::vector<std::pair<int, Eigen::RowVector3d>>& motion) {
-    const DeformedCopy* c = findCopy(copies, name);
+    const FaceShape* c = findCopy(copies, name);
     ASSERT_NE(c, nullptr) << name;
     EXPECT_EQ(c->fapID, fapID) << name;
     EXPECT_EQ(c->highLevelSelect, select) << name;
     EXPECT_EQ(c->amplitude, amplitude) << name;
     Points3 expected = p;
     for (const auto& [vertex, m] : motion) expected.row(vertex) += m;
-    EXPECT_LE(rowDistance(c->model.meshes[0].coord, expected), 1e-8) << name;
-    EXPECT_EQ(c->model.meshes[1].coord, face.faceSceneGraph.meshes[1].coord) << name;
+    const FaceModel moved = deformedModel(face.faceSceneGraph, *c);
+    EXPECT_LE(rowDistance(moved.meshes[0].coord, expected), 1e-8) << name;
+    EXPECT_EQ(moved.meshes[1].coord, face.faceSceneGraph.meshes[1].coord) << name;
   };
   using V = Eigen::RowVector3d;
   // Negative side: per unit of |FAP|, 100 * D0; positive: 200 * D1 (+ 400 * D2).
@@ -108,16 +109,17 @@ TEST(CloneSource, HandMadeTables) {
   expectMoved("expression1_joy", 2, 1, 63, {{10, 30 * de.row(0) + 33 * de.row(1)}});
 
   // The eye copy: its Transform turned by 1200 AU (1e-5 rad each) about y, nothing else.
-  const DeformedCopy* eye = findCopy(copies, "fap23_yaw_l_eyeball@1200");
+  const FaceShape* eye = findCopy(copies, "fap23_yaw_l_eyeball@1200");
   ASSERT_NE(eye, nullptr);
-  EXPECT_EQ(eye->model.meshes[0].coord, p);
+  EXPECT_TRUE(eye->meshes.empty());
   const Eigen::Quaterniond expected =
       face.faceSceneGraph.transforms[1].rotation *
       Eigen::Quaterniond(Eigen::AngleAxisd(1200 * 1e-5, Eigen::Vector3d::UnitY()));
-  EXPECT_LE(eye->model.transforms[1].rotation.angularDistance(expected), 1e-12);
-  for (const DeformedCopy& c : copies) {
+  EXPECT_LE(shapeTransforms(face.faceSceneGraph, *eye)[1].rotation.angularDistance(expected),
+            1e-12);
+  for (const FaceShape& c : copies) {
     if (c.fapID != 23) {
-      EXPECT_LE(c.model.transforms[1].rotation.angularDistance(
+      EXPECT_LE(shapeTransforms(face.faceSceneGraph, c)[1].rotation.angularDistance(
                     face.faceSceneGraph.transforms[1].rotation),
                 1e-15)
           << c.name;
@@ -164,7 +166,7 @@ TEST(CloneSource, RoundTripThroughTheGenerator) {
   face.faceDefTables.push_back({2, 4, {randomMesh(0, {0, 21, 63}, 25, 9, 0.001)}, {}});
 
   const FapuMeasurement fapu = measureFapu(face.faceSceneGraph);
-  const std::vector<DeformedCopy> copies = deformedCopiesFromFaceDefTables(face, fapu);
+  const std::vector<FaceShape> copies = shapesFromFaceDefTables(face, fapu);
   const GeneratedTables generated =
       generateFaceDefTables(face.faceSceneGraph, fapu, copies, GeneratorOptions{});
   EXPECT_TRUE(generated.warnings.empty());
@@ -206,6 +208,6 @@ TEST(CloneSource, NeedsTheFapuOfEveryTable) {
   face.faceSceneGraph.featurePoints.erase("2.2");  // no MNS0
   face.faceDefTables.push_back({3, 0, {meshTable(0, {0, 100}, {5}, Points3{{0, -1, 0}})}, {}});
   const Error e = mpeg4face::test::errorOf(
-      [&] { deformedCopiesFromFaceDefTables(face, measureFapu(face.faceSceneGraph)); });
+      [&] { shapesFromFaceDefTables(face, measureFapu(face.faceSceneGraph)); });
   EXPECT_NE(std::string(e.what()).find("2.2"), std::string::npos) << e.what();
 }

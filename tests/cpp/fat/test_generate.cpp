@@ -50,29 +50,41 @@ Eigen::RowVector3d sculptedMotion(const Eigen::RowVector3d& p, int fap, double a
          Eigen::RowVector3d(0.3, -1, 0.2 * (fap % 3));
 }
 
-DeformedCopy sculpt(const FaceModel& neutral, int fap, int amplitude, int select = 0) {
-  DeformedCopy copy;
-  copy.name = (fap <= 2 ? (fap == 1 ? "viseme" : "expression") + std::to_string(select)
-                        : "fap" + std::to_string(fap)) +
-              "@" + std::to_string(amplitude);
-  copy.fapID = fap;
-  copy.highLevelSelect = select;
-  copy.amplitude = amplitude;
-  copy.model = neutral;
-  Points3& c = copy.model.meshes[0].coord;
+// The model a modeler saved: the neutral with its face mesh sculpted.
+FaceModel sculptedModel(const FaceModel& neutral, int fap, int amplitude, int select = 0) {
+  FaceModel model = neutral;
+  Points3& c = model.meshes[0].coord;
   for (Eigen::Index v = 0; v < c.rows(); ++v) {
     c.row(v) += sculptedMotion(c.row(v), fap + 10 * select, amplitude);
   }
+  return model;
+}
+
+// `model` as the copy of FAP `fap` at `amplitude`, named as the shape-key grammar would.
+FaceShape shapeOf(const FaceModel& neutral, const FaceModel& model, int fap, int amplitude,
+                  int select = 0) {
+  FaceShape copy = shapeFromDeformedModel(
+      neutral, model,
+      (fap <= 2 ? (fap == 1 ? "viseme" : "expression") + std::to_string(select)
+                : "fap" + std::to_string(fap)) +
+          "@" + std::to_string(amplitude));
+  copy.fapID = fap;
+  copy.highLevelSelect = select;
+  copy.amplitude = amplitude;
   return copy;
 }
 
-void expectReproduced(const FaceModel& neutral, const std::vector<DeformedCopy>& copies,
+FaceShape sculpt(const FaceModel& neutral, int fap, int amplitude, int select = 0) {
+  return shapeOf(neutral, sculptedModel(neutral, fap, amplitude, select), fap, amplitude, select);
+}
+
+void expectReproduced(const FaceModel& neutral, const std::vector<FaceShape>& copies,
                       const GeneratedTables& generated) {
   const FapuMeasurement fapu = measureFapu(neutral);
   const FatEvaluator eval({neutral, generated.faceDefTables}, fapu);
   const double tolerance = 1e-5 * boundingDiagonal(neutral);
-  for (const DeformedCopy& copy : copies) {
-    EXPECT_LE(farthest(eval.evaluate(frameFor(copy)), neutral, copy.model), tolerance) << copy.name;
+  for (const FaceShape& copy : copies) {
+    EXPECT_LE(farthest(eval.evaluate(frameFor(copy)), neutral, copy), tolerance) << copy.name;
   }
 }
 
@@ -87,7 +99,7 @@ const FaceDefTables& tableOf(const GeneratedTables& g, int fap, int select = 1) 
 
 TEST(FatGenerate, EvaluatingTheTablesReproducesEveryCopy) {
   const FaceModel neutral = testFace();
-  const std::vector<DeformedCopy> copies = {
+  const std::vector<FaceShape> copies = {
       sculpt(neutral, 3, 700),   sculpt(neutral, 3, -200),  sculpt(neutral, 3, 300),
       sculpt(neutral, 6, -300),  sculpt(neutral, 19, 100),  sculpt(neutral, 19, 400),
       sculpt(neutral, 31, -150), sculpt(neutral, 31, -600), sculpt(neutral, 1, 63, 3),
@@ -108,8 +120,8 @@ TEST(FatGenerate, EvaluatingTheTablesReproducesEveryCopy) {
 
 TEST(FatGenerate, BetweenAndBeyondTheCopiesTheMotionIsPiecewiseLinear) {
   const FaceModel neutral = testFace();
-  const std::vector<DeformedCopy> copies = {sculpt(neutral, 3, -200), sculpt(neutral, 3, 300),
-                                            sculpt(neutral, 3, 700)};
+  const std::vector<FaceShape> copies = {sculpt(neutral, 3, -200), sculpt(neutral, 3, 300),
+                                         sculpt(neutral, 3, 700)};
   const GeneratedTables g = generateFaceDefTables(neutral, measureFapu(neutral), copies);
   const FatEvaluator eval({neutral, g.faceDefTables}, measureFapu(neutral));
   const double tolerance = 1e-5 * boundingDiagonal(neutral);
@@ -119,7 +131,9 @@ TEST(FatGenerate, BetweenAndBeyondTheCopiesTheMotionIsPiecewiseLinear) {
     f.set(3, value);
     return eval.evaluate(f).coord[0];
   };
-  const auto copy = [&](int i) -> const Points3& { return copies[i].model.meshes[0].coord; };
+  const auto copy = [&](int i) -> Points3 {
+    return deformedModel(neutral, copies[i]).meshes[0].coord;
+  };
   // 500 lies halfway between the copies at 300 and 700; 100 a third of the way to 300.
   EXPECT_LE((at(500) - (copy(1) + copy(2)) / 2).cwiseAbs().maxCoeff(), tolerance);
   EXPECT_LE((at(100) - (2 * p0 + copy(1)) / 3).cwiseAbs().maxCoeff(), tolerance);
@@ -134,23 +148,21 @@ TEST(FatGenerate, DisplacementsArePerFapuAndPerUnitOfAbsFapOnTheNegativeSide) {
   const FapuMeasurement fapu = measureFapu(neutral);
   const double mns = 0.03 / 1024;
   ASSERT_NEAR(fapu.unit(FapuKind::MNS), mns, 1e-15);
-  const std::vector<DeformedCopy> copies = {sculpt(neutral, 4, -500), sculpt(neutral, 4, -200),
-                                            sculpt(neutral, 5, -300)};
+  const std::vector<FaceShape> copies = {sculpt(neutral, 4, -500), sculpt(neutral, 4, -200),
+                                         sculpt(neutral, 5, -300)};
   const GeneratedTables g = generateFaceDefTables(neutral, fapu, copies);
   const FaceDefMesh& four = tableOf(g, 4).faceDefMesh[0];
   const FaceDefMesh& five = tableOf(g, 5).faceDefMesh[0];
   const int v = four.coordIndex[0];
-  const Eigen::RowVector3d d200 =
-      copies[1].model.meshes[0].coord.row(v) - neutral.meshes[0].coord.row(v);
-  const Eigen::RowVector3d d500 =
-      copies[0].model.meshes[0].coord.row(v) - neutral.meshes[0].coord.row(v);
+  const int n = neutral.meshes[0].vertexCount();
+  const Eigen::RowVector3d d200 = denseDisplacement(copies[1], 0, n).row(v);
+  const Eigen::RowVector3d d500 = denseDisplacement(copies[0], 0, n).row(v);
   // Borders -500, -200, 0: D0 for [-500, -200], D1 for [-200, 0], per unit of |FAP| outwards.
   EXPECT_TRUE(four.displacements.row(1).isApprox(d200 / (200 * mns)));
   EXPECT_TRUE(four.displacements.row(0).isApprox((d500 - d200) / (300 * mns)));
   // One interval is signed (rule 6): a copy at -300 gives D = d / (-300 FAPU).
   const int w = five.coordIndex[0];
-  const Eigen::RowVector3d d =
-      copies[2].model.meshes[0].coord.row(w) - neutral.meshes[0].coord.row(w);
+  const Eigen::RowVector3d d = denseDisplacement(copies[2], 0, n).row(w);
   EXPECT_TRUE(five.displacements.row(0).isApprox(d / (-300 * mns)));
   std::vector<double> weights;
   intervalWeights(five.intervalBorders, -300, weights);
@@ -161,10 +173,10 @@ TEST(FatGenerate, TheThresholdIsRelativeToTheFapu) {
   const FaceModel neutral = testFace();
   const FapuMeasurement fapu = measureFapu(neutral);
   const double mw = fapu.unit(FapuKind::MW);
-  DeformedCopy copy = sculpt(neutral, 6, 100);
-  copy.model.meshes[0].coord = neutral.meshes[0].coord;
-  copy.model.meshes[0].coord(10, 0) += 0.02 * mw;   // above 0.01 MW
-  copy.model.meshes[0].coord(11, 1) += 0.005 * mw;  // below
+  FaceModel model = neutral;
+  model.meshes[0].coord(10, 0) += 0.02 * mw;   // above 0.01 MW
+  model.meshes[0].coord(11, 1) += 0.005 * mw;  // below
+  const FaceShape copy = shapeOf(neutral, model, 6, 100);
   GeneratedTables g = generateFaceDefTables(neutral, fapu, std::span(&copy, 1));
   EXPECT_EQ(tableOf(g, 6).faceDefMesh[0].coordIndex, std::vector<int>{10});
   g = generateFaceDefTables(neutral, fapu, std::span(&copy, 1), {0.001, std::nullopt});
@@ -179,16 +191,15 @@ TEST(FatGenerate, TransformChangesBecomeFaceDefTransforms) {
   const FaceModel neutral = testFace();
   const Transform& eye0 = neutral.transforms[1];
   // FAP 23 (yaw_l_eyeball, AU) sculpted at 20000: the eye turned by 0.2 rad about -y.
-  DeformedCopy yaw = sculpt(neutral, 23, 20000);
-  yaw.model.meshes[0].coord = neutral.meshes[0].coord;
-  yaw.model.transforms[1].rotation =
-      eye0.rotation * Eigen::AngleAxisd(0.2, -Eigen::Vector3d::UnitY());
+  FaceModel turned = neutral;
+  turned.transforms[1].rotation = eye0.rotation * Eigen::AngleAxisd(0.2, -Eigen::Vector3d::UnitY());
+  const FaceShape yaw = shapeOf(neutral, turned, 23, 20000);
   // FAP 27 (thrust_l_eyeball, ES) at 500: the eye moved forward and grew a little.
-  DeformedCopy thrust = sculpt(neutral, 27, 500);
-  thrust.model.meshes[0].coord = neutral.meshes[0].coord;
-  thrust.model.transforms[1].translation += Eigen::Vector3d(0, 0, 0.004);
-  thrust.model.transforms[1].scale = {1.1, 1.1, 1.1};
-  const std::vector<DeformedCopy> copies = {yaw, thrust};
+  FaceModel thrusted = neutral;
+  thrusted.transforms[1].translation += Eigen::Vector3d(0, 0, 0.004);
+  thrusted.transforms[1].scale = {1.1, 1.1, 1.1};
+  const FaceShape thrust = shapeOf(neutral, thrusted, 27, 500);
+  const std::vector<FaceShape> copies = {yaw, thrust};
   const FapuMeasurement fapu = measureFapu(neutral);
   const GeneratedTables g = generateFaceDefTables(neutral, fapu, copies);
   EXPECT_TRUE(g.warnings.empty());
@@ -215,17 +226,18 @@ TEST(FatGenerate, TransformChangesBecomeFaceDefTransforms) {
 
 TEST(FatGenerate, ATransformThatIsNotLinearInTheFapIsReported) {
   const FaceModel neutral = testFace();
-  std::vector<DeformedCopy> copies = {sculpt(neutral, 48, 10000), sculpt(neutral, 48, 30000)};
-  copies[0].model.transforms[1].rotation =
+  std::vector<FaceShape> copies = {sculpt(neutral, 48, 10000), sculpt(neutral, 48, 30000)};
+  for (FaceShape& c : copies) c.transforms = neutral.transforms;
+  copies[0].transforms[1].rotation =
       neutral.transforms[1].rotation * Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX());
-  copies[1].model.transforms[1].rotation =
+  copies[1].transforms[1].rotation =
       neutral.transforms[1].rotation * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX());
   GeneratedTables g = generateFaceDefTables(neutral, measureFapu(neutral), copies);
   ASSERT_EQ(g.warnings.size(), 1u);
   EXPECT_TRUE(contains(g.warnings[0], "copy 'fap48@10000': transform 'LeftEyeX'")) << g.warnings[0];
   // The copy of largest |amplitude| defines the rotation.
   EXPECT_NEAR(tableOf(g, 48).faceDefTransform[0].rotationDef[3], 0.2 / 0.3, 1e-9);
-  copies[0].model.transforms[1].rotation =
+  copies[0].transforms[1].rotation =
       neutral.transforms[1].rotation * Eigen::AngleAxisd(0.2 / 3, Eigen::Vector3d::UnitX());
   g = generateFaceDefTables(neutral, measureFapu(neutral), copies);
   EXPECT_TRUE(g.warnings.empty());
@@ -234,30 +246,52 @@ TEST(FatGenerate, ATransformThatIsNotLinearInTheFapIsReported) {
 TEST(FatGenerate, TopologyMismatchNamesTheCopyAndTheMesh) {
   const FaceModel neutral = testFace();
   const FapuMeasurement fapu = measureFapu(neutral);
-  const auto fieldOf = [&](const std::function<void(DeformedCopy&)>& breakIt) {
-    std::vector<DeformedCopy> copies = {sculpt(neutral, 3, 100), sculpt(neutral, 4, 100)};
+  // A whole model is checked where it becomes a shape (shapeFromDeformedModel)...
+  const auto modelFieldOf = [&](const std::function<void(FaceModel&)>& breakIt) {
+    FaceModel model = sculptedModel(neutral, 4, 100);
+    breakIt(model);
+    return errorOf([&] {
+             const std::vector<FaceShape> copies = {sculpt(neutral, 3, 100),
+                                                    shapeOf(neutral, model, 4, 100)};
+             generateFaceDefTables(neutral, fapu, copies);
+           })
+        .field();
+  };
+  EXPECT_EQ(modelFieldOf([](FaceModel& m) { m.meshes[1].coord.conservativeResize(3, 3); }),
+            "copy 'fap4@100' mesh 'LeftEye'");
+  EXPECT_EQ(modelFieldOf([](FaceModel& m) { m.meshes[0].coordIndex[0] = 1; }),
+            "copy 'fap4@100' mesh 'Face'");
+  EXPECT_EQ(modelFieldOf([](FaceModel& m) { m.meshes.pop_back(); }), "copy 'fap4@100'");
+  EXPECT_EQ(modelFieldOf([](FaceModel& m) { m.transforms[1].center.x() = 1; }),
+            "copy 'fap4@100' transform 'LeftEyeX'");
+  EXPECT_EQ(modelFieldOf([](FaceModel& m) { m.transforms[0].children.clear(); }),
+            "copy 'fap4@100' transform 'Face'");
+  EXPECT_EQ(modelFieldOf([](FaceModel& m) { m.meshes[0].coord(3, 1) = NAN; }),
+            "copy 'fap4@100' mesh 'Face'");
+  // ... a shape by the generator.
+  const auto fieldOf = [&](const std::function<void(FaceShape&)>& breakIt) {
+    std::vector<FaceShape> copies = {sculpt(neutral, 3, 100), sculpt(neutral, 4, 100)};
     breakIt(copies[1]);
     return errorOf([&] { generateFaceDefTables(neutral, fapu, copies); }).field();
   };
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.model.meshes[1].coord.conservativeResize(3, 3); }),
-            "copy 'fap4@100' mesh 'LeftEye'");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.model.meshes[0].coordIndex[0] = 1; }),
+  EXPECT_EQ(fieldOf([](FaceShape& c) { c.meshes[0].displacement(0, 1) = NAN; }),
             "copy 'fap4@100' mesh 'Face'");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.model.meshes.pop_back(); }), "copy 'fap4@100'");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.model.transforms[1].center.x() = 1; }),
-            "copy 'fap4@100' transform 'LeftEyeX'");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.model.transforms[0].children.clear(); }),
-            "copy 'fap4@100' transform 'Face'");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.model.meshes[0].coord(3, 1) = NAN; }),
+  EXPECT_EQ(
+      fieldOf([](FaceShape& c) { std::swap(c.meshes[0].vertices[0], c.meshes[0].vertices[1]); }),
+      "copy 'fap4@100' mesh 'Face'");
+  EXPECT_EQ(fieldOf([](FaceShape& c) { c.meshes[0].vertices.pop_back(); }),
             "copy 'fap4@100' mesh 'Face'");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.amplitude = 0; }), "copy 'fap4@100' amplitude");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.fapID = 69; }), "copy 'fap4@100' fapID");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.fapID = 1, c.highLevelSelect = 15; }),
+  EXPECT_EQ(fieldOf([](FaceShape& c) { c.meshes[0].mesh = 7; }), "copy 'fap4@100'");
+  EXPECT_EQ(fieldOf([&](FaceShape& c) { c.transforms.assign(1, neutral.transforms[0]); }),
+            "copy 'fap4@100'");
+  EXPECT_EQ(fieldOf([](FaceShape& c) { c.amplitude = 0; }), "copy 'fap4@100' amplitude");
+  EXPECT_EQ(fieldOf([](FaceShape& c) { c.fapID = 69; }), "copy 'fap4@100' fapID");
+  EXPECT_EQ(fieldOf([](FaceShape& c) { c.fapID = 1, c.highLevelSelect = 15; }),
             "copy 'fap4@100' highLevelSelect");
-  EXPECT_EQ(fieldOf([](DeformedCopy& c) { c.fapID = 2, c.highLevelSelect = 1, c.amplitude = 64; }),
+  EXPECT_EQ(fieldOf([](FaceShape& c) { c.fapID = 2, c.highLevelSelect = 1, c.amplitude = 64; }),
             "copy 'fap4@100' amplitude");
   const Error e = errorOf([&] {
-    std::vector<DeformedCopy> copies = {sculpt(neutral, 3, 100), sculpt(neutral, 3, 100)};
+    std::vector<FaceShape> copies = {sculpt(neutral, 3, 100), sculpt(neutral, 3, 100)};
     copies[1].name = "again";
     generateFaceDefTables(neutral, fapu, copies);
   });
@@ -268,7 +302,7 @@ TEST(FatGenerate, TopologyMismatchNamesTheCopyAndTheMesh) {
 TEST(FatGenerate, AnUnmeasuredFapuNamesTheFeaturePointsItNeeds) {
   FaceModel neutral = testFace();
   neutral.featurePoints.erase("3.1");
-  const DeformedCopy copy = sculpt(neutral, 19, 100);  // close_t_l_eyelid: IRISD
+  const FaceShape copy = sculpt(neutral, 19, 100);  // close_t_l_eyelid: IRISD
   const Error e =
       errorOf([&] { generateFaceDefTables(neutral, measureFapu(neutral), std::span(&copy, 1)); });
   EXPECT_EQ(e.field(), "copy 'fap19@100'");
@@ -320,18 +354,19 @@ TEST(FatCandide3, TablesFromSculptedCopiesReproduceTheUnitsMotion) {
     c3.motion(u, a, coord);
   };
   const CandideModel& candide = c3.candide;
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   int units = 0;
   for (const CandideUnit& u : candide.animationUnits) {
     if (u.fap == 0) continue;
     ++units;
     for (int amplitude : {-400, 300, 700}) {
-      DeformedCopy& c = copies.emplace_back();
+      FaceShape& c = copies.emplace_back();
       c.name = u.name + " @" + std::to_string(amplitude);
       c.fapID = u.fap;
       c.amplitude = amplitude;
-      c.model = neutral;
-      motion(u, amplitude, c.model.meshes[0].coord);
+      Points3 d = Points3::Zero(neutral.meshes[0].coord.rows(), 3);
+      motion(u, amplitude, d);
+      c.meshes.push_back(sparseDisplacement(0, d));
     }
   }
   ASSERT_EQ(units, 54);

@@ -152,22 +152,30 @@ FaceModel keyedModel() {
 
 TEST(ShapeKeyCopies, OneCopyPerNameAcrossMeshesOthersIgnored) {
   const FaceModel model = keyedModel();
-  const ShapeKeyCopies out = deformedCopiesFromShapeKeys(model);
+  const ShapeKeyCopies out = shapesFromShapeKeys(model);
   ASSERT_EQ(out.copies.size(), 3u);
   EXPECT_EQ(out.ignored, (std::vector<std::string>{"smile", "Basis.001"}));
-  const DeformedCopy& jaw = out.copies[0];
+  const FaceModel basis = neutralFaceModel(model);
+  const FaceShape& jaw = out.copies[0];
   EXPECT_EQ(jaw.name, "fap3_open_jaw@512");
   EXPECT_EQ(std::make_pair(jaw.fapID, jaw.amplitude), std::make_pair(3, 512));
-  EXPECT_EQ(jaw.model.meshes[0].coord.row(1),
+  const FaceModel jawModel = deformedModel(basis, jaw);
+  EXPECT_EQ(jawModel.meshes[0].coord.row(1),
             model.meshes[0].coord.row(1) + Eigen::RowVector3d(0, -0.05, 0));
-  EXPECT_EQ(jaw.model.meshes[1].coord.row(1),
+  EXPECT_EQ(jawModel.meshes[1].coord.row(1),
             model.meshes[1].coord.row(1) + Eigen::RowVector3d(0, -0.04, 0));
-  EXPECT_EQ(jaw.model.meshes[0].coord.row(0), model.meshes[0].coord.row(0));
-  EXPECT_TRUE(jaw.model.meshes[0].morphTargets.empty());
-  EXPECT_TRUE(jaw.model.meshes[0].weights.empty());
+  EXPECT_EQ(jawModel.meshes[0].coord.row(0), model.meshes[0].coord.row(0));
+  // Sparse: the vertices the morph targets move, on each mesh they move; no Transforms.
+  ASSERT_EQ(jaw.meshes.size(), 2u);
+  EXPECT_EQ(jaw.meshes[0].mesh, 0);
+  EXPECT_EQ(jaw.meshes[0].vertices, std::vector<int>{1});
+  EXPECT_EQ(jaw.meshes[1].mesh, 1);
+  EXPECT_EQ(jaw.meshes[1].vertices, std::vector<int>{1});
+  EXPECT_TRUE(jaw.transforms.empty());
   EXPECT_EQ(std::tie(out.copies[1].fapID, out.copies[1].highLevelSelect, out.copies[1].amplitude),
             std::make_tuple(1, 2, 63));
-  EXPECT_EQ(out.copies[1].model.meshes[1].coord, model.meshes[1].coord);  // no viseme2 there
+  ASSERT_EQ(out.copies[1].meshes.size(), 1u);  // no viseme2 on the teeth
+  EXPECT_EQ(out.copies[1].meshes[0].mesh, 0);
   EXPECT_EQ(std::tie(out.copies[2].fapID, out.copies[2].highLevelSelect, out.copies[2].amplitude),
             std::make_tuple(2, 1, 40));
 }
@@ -175,17 +183,17 @@ TEST(ShapeKeyCopies, OneCopyPerNameAcrossMeshesOthersIgnored) {
 TEST(ShapeKeyCopies, MalformedNamesNameTheMesh) {
   FaceModel model = keyedModel();
   model.meshes[1].morphTargets[2].name = "fap3@";
-  const Error e = errorOf([&] { deformedCopiesFromShapeKeys(model); });
+  const Error e = errorOf([&] { shapesFromShapeKeys(model); });
   EXPECT_EQ(e.field(), "mesh 'Teeth' morph target 'fap3@'");
   EXPECT_TRUE(contains(e.reason(), "fap<N>[_<name>]@<amplitude>"));
   model = keyedModel();
   model.meshes[1].morphTargets[1].name = "fap3_open_jaw@512";
-  EXPECT_TRUE(contains(errorOf([&] { deformedCopiesFromShapeKeys(model); }).reason(), "twice"));
+  EXPECT_TRUE(contains(errorOf([&] { shapesFromShapeKeys(model); }).reason(), "twice"));
 }
 
 TEST(ShapeKeyCopies, FeedTheGenerator) {
   const FaceModel model = keyedModel();
-  const ShapeKeyCopies out = deformedCopiesFromShapeKeys(model);
+  const ShapeKeyCopies out = shapesFromShapeKeys(model);
   const FapuMeasurement fapu = measureFapu(model);
   const GeneratedTables g = generateFaceDefTables(model, fapu, out.copies, {0.01, 1e-6});
   ASSERT_EQ(g.faceDefTables.size(), 3u);
@@ -234,18 +242,20 @@ TEST(ShapeKeyCopies, AnimationsOfOurNamesArePosesOfTheTransforms) {
   model.animations.push_back({"fap49_head_yaw@20000", {}, {rotationAboutY(0, 0.2)}});
   model.animations.push_back({"idle", {}, {rotationAboutY(0, 1)}});
   model.animations.push_back({"talk", {}, {}});  // weights only (none here): not a pose
-  const ShapeKeyCopies out = deformedCopiesFromShapeKeys(model);
+  const ShapeKeyCopies out = shapesFromShapeKeys(model);
   ASSERT_EQ(out.copies.size(), 4u);
   EXPECT_EQ(out.ignored, (std::vector<std::string>{"smile", "Basis.001", "idle"}));
-  const DeformedCopy& jaw = out.copies[0];
-  EXPECT_EQ(jaw.model.meshes[0].coord.row(1),
+  const FaceShape& jaw = out.copies[0];
+  EXPECT_EQ(deformedModel(neutralFaceModel(model), jaw).meshes[0].coord.row(1),
             model.meshes[0].coord.row(1) + Eigen::RowVector3d(0, -0.05, 0));
-  EXPECT_EQ(jaw.model.transforms[1].translation, Eigen::Vector3d(0, -0.03, 0));
-  EXPECT_EQ(jaw.model.transforms[0].translation, Eigen::Vector3d::Zero());
-  const DeformedCopy& yaw = out.copies[3];
+  ASSERT_EQ(jaw.transforms.size(), model.transforms.size());
+  EXPECT_EQ(jaw.transforms[1].translation, Eigen::Vector3d(0, -0.03, 0));
+  EXPECT_EQ(jaw.transforms[0].translation, Eigen::Vector3d::Zero());
+  const FaceShape& yaw = out.copies[3];
   EXPECT_EQ(std::make_pair(yaw.fapID, yaw.amplitude), std::make_pair(49, 20000));
-  EXPECT_EQ(yaw.model.meshes[0].coord, model.meshes[0].coord);
-  EXPECT_NEAR(Eigen::AngleAxisd(yaw.model.transforms[0].rotation).angle(), 0.2, 1e-12);
+  EXPECT_TRUE(yaw.meshes.empty());
+  ASSERT_EQ(yaw.transforms.size(), model.transforms.size());
+  EXPECT_NEAR(Eigen::AngleAxisd(yaw.transforms[0].rotation).angle(), 0.2, 1e-12);
 
   // The generator turns the poses into FaceDefTransforms the evaluator follows linearly.
   const FapuMeasurement fapu = measureFapu(model);
@@ -265,15 +275,15 @@ TEST(ShapeKeyCopies, AnimationsOfOurNamesArePosesOfTheTransforms) {
 TEST(ShapeKeyCopies, PosesThatDoNotFitTheModelAreNamed) {
   FaceModel model = keyedModel();
   model.animations.push_back({"fap23@1000", {}, {rotationAboutY(7, 0.1)}});
-  Error e = errorOf([&] { deformedCopiesFromShapeKeys(model); });
+  Error e = errorOf([&] { shapesFromShapeKeys(model); });
   EXPECT_EQ(e.field(), "animation 'fap23@1000'");
   EXPECT_TRUE(contains(e.reason(), "transform 7 out of range (the model has 2)")) << e.reason();
   model.animations.back().transformChannels[0] = rotationAboutY(0, 0.1);
   model.animations.back().transformChannels[0].values.pop_back();
-  EXPECT_TRUE(contains(errorOf([&] { deformedCopiesFromShapeKeys(model); }).reason(),
+  EXPECT_TRUE(contains(errorOf([&] { shapesFromShapeKeys(model); }).reason(),
                        "3 values for 1 keys (expected 4 a key)"));
   model.animations.back().name = "fap23@";
-  e = errorOf([&] { deformedCopiesFromShapeKeys(model); });
+  e = errorOf([&] { shapesFromShapeKeys(model); });
   EXPECT_EQ(e.field(), "animation 'fap23@'");
   EXPECT_TRUE(contains(e.reason(), "fap<N>[_<name>]@<amplitude>"));
 }

@@ -405,20 +405,21 @@ TEST(Flite, ASentenceGivesTimedPhonesWordsAndTheAudio) {
 // m/, keeps it shut) and joy, which raises the mouth corners.
 MpegFace talkingFace() {
   const FaceModel neutral = test::testFace();
-  std::vector<DeformedCopy> copies;
+  std::vector<FaceShape> copies;
   const auto copy = [&](int fap, int select, double open, double corners) {
-    DeformedCopy c;
+    FaceShape c;
     c.name = (fap == 1 ? "viseme" : "expression") + std::to_string(select);
     c.fapID = fap;
     c.highLevelSelect = select;
     c.amplitude = 63;
-    c.model = neutral;
-    Points3& p = c.model.meshes[0].coord;
+    const Points3& p = neutral.meshes[0].coord;
+    Points3 d = Points3::Zero(p.rows(), 3);
     for (Eigen::Index v = 0; v < p.rows(); ++v) {
       const double dx = p(v, 0), dy = p(v, 1) + 0.05, r = std::hypot(dx, dy);
-      if (r < 0.04) p(v, 1) -= open * (1 - r / 0.04) * (dy < 0 ? 1 : 0.2);
-      if (r < 0.04) p(v, 1) += corners * std::abs(dx) / 0.04;
+      if (r < 0.04) d(v, 1) -= open * (1 - r / 0.04) * (dy < 0 ? 1 : 0.2);
+      if (r < 0.04) d(v, 1) += corners * std::abs(dx) / 0.04;
     }
+    c.meshes.push_back(sparseDisplacement(0, d));
     copies.push_back(std::move(c));
   };
   for (int v = 2; v <= 14; ++v) copy(1, v, 0.001 * v, 0);

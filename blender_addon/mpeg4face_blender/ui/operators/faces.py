@@ -8,7 +8,7 @@ Basis and the user's other keys are left as they are. Problems are reported, nev
 """
 
 # No postponed annotations: bpy reads the property annotations.
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 import bpy
 import numpy as np
@@ -68,8 +68,10 @@ def set_slider_range(key: bpy.types.ShapeKey) -> None:
     key.slider_min = low
 
 
-def write_keys(obj: bpy.types.Object, displacements: dict[str, np.ndarray]) -> int:
-    """Grammar keys from displacements (Blender's axes) from the Basis: a key of that name
+def write_keys(obj: bpy.types.Object, displacements: Mapping[str, shape_keys.Displacement]
+               ) -> int:
+    """Grammar keys from displacements (Blender's axes; every vertex's, or a sparse shape's
+    vertices and theirs: shape_keys.moved_coords) from the Basis: a key of that name
     is overwritten in place, keeping its drivers and animation, its slider range widened to
     the grammar's (never narrowed: a bake may have widened it); the others are added.
     Returns how many were replaced."""
@@ -78,10 +80,11 @@ def write_keys(obj: bpy.types.Object, displacements: dict[str, np.ndarray]) -> i
     for name, displacement in displacements.items():
         keys = obj.data.shape_keys
         existing = keys.key_blocks.get(name) if keys is not None else None
+        coords = shape_keys.moved_coords(basis, displacement)
         if existing is None:
-            add_key(obj, name, basis + displacement)
+            add_key(obj, name, coords)
             continue
-        mesh_data.set_shape_key_coords(existing, basis + displacement)
+        mesh_data.set_shape_key_coords(existing, coords)
         low, high = shape_keys.slider_range(name)
         existing.slider_max = max(existing.slider_max, high)
         existing.slider_min = min(existing.slider_min, low)

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Facial Motion Cloning (Pandzic 2003): the motion of every deformed copy of a source face
-// (a FAP, viseme or expression shape) is carried to a neutral target face that has feature
-// points, so the target gets the same copies and, from them, its FaceDefTables. Method and
+// Facial Motion Cloning (Pandzic 2003): the motion of every shape of a source face (a FAP,
+// viseme or expression: model/face_shape.hpp) is carried to a neutral target face that has feature
+// points, so the target gets the same shapes and, from them, its FaceDefTables. Method and
 // the feature-point triangulation in docs/clone.md.
 #pragma once
 
@@ -14,6 +14,7 @@
 #include "mpeg4face/fat/generate.hpp"
 #include "mpeg4face/fat/tables.hpp"
 #include "mpeg4face/model/face_model.hpp"
+#include "mpeg4face/model/face_shape.hpp"
 #include "mpeg4face/model/fapu.hpp"
 
 namespace mpeg4face {
@@ -53,65 +54,39 @@ std::span<const std::string_view> cloneFeaturePoints();
 // Those of cloneFeaturePoints() that `model` does not bind, in table order.
 std::vector<std::string> missingCloneFeaturePoints(const FaceModel& model);
 
-// The vertices of one mesh that a cloned copy moves, and by how much (mesh-local
-// coordinates): vertex vertices[k] moves by displacement.row(k).
-struct MeshDisplacement {
-  int mesh = 0;
-  std::vector<int> vertices;  // ascending
-  Points3 displacement;
-};
-
-// One cloned copy, as what it changes in the target neutral: a FAP shape moves a region of
-// the face, so only the vertices that move are kept (68 full copies of a large head would
-// cost more memory, and time to fill it, than the cloning itself). deformedCopy() makes
-// the full model.
-struct ClonedCopy {
-  std::string name;  // the source copy's name, fapID, highLevelSelect and amplitude
-  int fapID = 3;
-  int highLevelSelect = 0;
-  int amplitude = 0;
-  std::vector<MeshDisplacement> meshes;  // meshes with a vertex that moves, ascending
-  std::vector<Transform> transforms;     // the neutral's, with the rigid parts' motion set
-};
-
 struct CloneResult {
   // The target with rotation centres installed where needed (clone/rigid.hpp); the neutral
   // that `copies` deform.
   FaceModel targetNeutral;
-  // One per source copy, in order.
-  std::vector<ClonedCopy> copies;
+  // One per source copy, in order: its name, fapID, highLevelSelect and amplitude, the target
+  // vertices that move (a FAP shape moves a region of the face) and the target's Transforms
+  // with the rigid parts' motion set (never empty).
+  std::vector<FaceShape> copies;
   std::vector<std::string> warnings;
 };
 
-// The full target model of result.copies[index] (the neutral moved by it).
-DeformedCopy deformedCopy(const CloneResult& result, std::size_t index);
-// deformedCopy of every copy, in order.
-std::vector<DeformedCopy> deformedCopies(const CloneResult& result);
-
-// Clones every copy of `sourceNeutral` onto `targetNeutral`. Vertex motion is the change of
-// each vertex's mesh-local position, taken to model space by the neutral world matrices
+// Clones every copy (shape) of `sourceNeutral` onto `targetNeutral`. Vertex motion is each
+// vertex's mesh-local displacement, taken to model space by the neutral world matrices
 // (Transform changes are the rigid parts' business, not vertex motion). Throws
 // mpeg4face::Error listing every missing feature point of either face (source / target
-// named), and for a copy whose meshes, vertex counts, faces (compared at 256 evenly spaced
-// corners: a renumbered copy differs almost everywhere) or Transform count differ from the
-// source neutral's, or with a coordinate that is not finite (naming the copy and mesh).
+// named), and for a copy that does not fit the source neutral (checkFaceShape: naming the
+// copy and mesh).
 CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
-                                std::span<const DeformedCopy> sourceCopies,
+                                std::span<const FaceShape> sourceCopies,
                                 const FaceModel& targetNeutral, const CloneOptions& options = {});
 
-// A source given by its tables: one copy per non-zero interval border of each table (a
+// A source given by its tables: one shape per non-zero interval border of each table (a
 // one-interval table at a documented amplitude), visemes and expressions at 63, each
 // evaluated alone from the neutral (FatEvaluator). Rules in docs/clone.md.
-std::vector<DeformedCopy> deformedCopiesFromFaceDefTables(const MpegFace& face,
-                                                          const FapuMeasurement& fapu);
+std::vector<FaceShape> shapesFromFaceDefTables(const MpegFace& face, const FapuMeasurement& fapu);
 
 struct ClonedFace {
-  MpegFace face;  // the target with its FaceDefTables (generateFaceDefTables)
-  std::vector<DeformedCopy> copies;
+  MpegFace face;                  // the target with its FaceDefTables (generateFaceDefTables)
+  std::vector<FaceShape> copies;  // CloneResult's, of face.faceSceneGraph
   std::vector<std::string> warnings;
 };
-// cloneDeformedCopies, then the target's tables from its copies.
-ClonedFace cloneFace(const FaceModel& sourceNeutral, std::span<const DeformedCopy> sourceCopies,
+// cloneDeformedCopies, then the target's tables from its copies as they are.
+ClonedFace cloneFace(const FaceModel& sourceNeutral, std::span<const FaceShape> sourceCopies,
                      const FaceModel& targetNeutral, const CloneOptions& options = {});
 
 }  // namespace mpeg4face

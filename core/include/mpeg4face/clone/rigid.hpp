@@ -12,8 +12,8 @@
 #include <string_view>
 #include <vector>
 
-#include "mpeg4face/fat/generate.hpp"
 #include "mpeg4face/model/face_model.hpp"
+#include "mpeg4face/model/face_shape.hpp"
 #include "mpeg4face/model/fapu.hpp"
 
 namespace mpeg4face {
@@ -53,7 +53,7 @@ struct RigidPartMap {
 // meshes have no Transform of their own, inserts one (appended, so existing indices stay).
 // Throws mpeg4face::Error for a source copy whose Transform tree differs from the neutral.
 RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
-                             std::span<const DeformedCopy> sourceCopies, FaceModel& target);
+                             std::span<const FaceShape> sourceCopies, FaceModel& target);
 
 // Sets, in `transforms` (a copy of the Transforms of the target neutral matchRigidParts
 // returned), the Transform fields of every part from the change `sourceCopy` makes to the
@@ -61,7 +61,7 @@ RigidPartMap matchRigidParts(const FaceModel& sourceNeutral,
 // the FAPU ratio (ES for eyes and head, MNS for teeth and tongue; the size ratio if not
 // measured). Throws mpeg4face::Error if `sourceCopy` or `transforms` lacks a part's Transform.
 void cloneRigidMotion(const RigidPartMap& map, const FaceModel& sourceNeutral,
-                      const FapuMeasurement& sourceFapu, const DeformedCopy& sourceCopy,
+                      const FapuMeasurement& sourceFapu, const FaceShape& sourceCopy,
                       const FaceModel& targetNeutral, const FapuMeasurement& targetFapu,
                       std::vector<Transform>& transforms);
 

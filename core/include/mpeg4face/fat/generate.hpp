@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The FaceDefTables generator of Tekalp-Ostermann Fig. 8: the neutral model and copies a
-// modeler deformed (same topology), each tagged with the FAP value it shows, give the
-// tables that make the evaluator (fat/evaluate.hpp) reproduce every copy. Rules in
-// docs/fat.md.
+// The FaceDefTables generator of Tekalp-Ostermann Fig. 8: the neutral model and the shapes a
+// modeler made of it (model/face_shape.hpp: what each moves), each tagged with the FAP value it
+// shows, give the tables that make the evaluator (fat/evaluate.hpp) reproduce every shape.
+// Rules in docs/fat.md.
 #pragma once
 
 #include <optional>
@@ -12,22 +12,10 @@
 
 #include "mpeg4face/fat/tables.hpp"
 #include "mpeg4face/model/face_model.hpp"
+#include "mpeg4face/model/face_shape.hpp"
 #include "mpeg4face/model/fapu.hpp"
 
 namespace mpeg4face {
-
-// One deformed copy of the neutral model: the same meshes (vertex counts and faces) and the
-// same Transform tree; vertex positions and Transform translation / rotation / scale may
-// differ.
-struct DeformedCopy {
-  std::string name;         // for messages: a file or shape-key name
-  int fapID = 3;            // 3..68; 1 for a viseme, 2 for an expression
-  int highLevelSelect = 0;  // the viseme (1..14) or expression (1..6) for fapID 1 / 2
-  // The FAP value the copy shows (in its FAPU, not 0); for a viseme or expression its amount
-  // 1..63 (63 = fully).
-  int amplitude = 0;
-  FaceModel model;
-};
 
 struct GeneratorOptions {
   // A vertex is affected when some copy of its FAP moves it by more than `threshold`
@@ -47,18 +35,19 @@ struct GeneratedTables {
   std::vector<std::string> warnings;
 };
 
-// Copies of one FAP (or viseme / expression) at several amplitudes become a FaceDefMesh per
-// mesh they deform, with interval borders at the amplitudes and 0:
+// Copies (shapes) of one FAP (or viseme / expression) at several amplitudes become a
+// FaceDefMesh per mesh they deform, with interval borders at the amplitudes and 0 (P(a): the
+// neutral moved by the copy at a; a vertex a copy does not list stays):
 //   positive side  D_j = (P(I_j+1) - P(I_j)) / ((I_j+1 - I_j) * FAPU)
 //   negative side  D_j = (P(I_j) - P(I_j+1)) / ((I_j+1 - I_j) * FAPU)   (per unit of |FAP|)
 //   one copy at a  D   = (P(a) - P(0)) / (a * FAPU)                      (signed, rule 6)
 // and a FaceDefTransform per changed Transform field (rotation: axis and angle of
 // R0^-1 * R per FAP unit), taken from the copy of largest |amplitude|.
-// Throws mpeg4face::Error naming the copy and the mesh or Transform for a topology mismatch,
-// the copies for a repeated amplitude, the feature points a FAP's unmeasured FAPU needs, and
-// for fapID, highLevelSelect or amplitude out of range.
+// Throws mpeg4face::Error naming the copy and the mesh or Transform for a shape that does not
+// fit the neutral (checkFaceShape), the copies for a repeated amplitude, the feature points a FAP's
+// unmeasured FAPU needs, and for fapID, highLevelSelect or amplitude out of range.
 GeneratedTables generateFaceDefTables(const FaceModel& neutral, const FapuMeasurement& fapu,
-                                      std::span<const DeformedCopy> copies,
+                                      std::span<const FaceShape> copies,
                                       const GeneratorOptions& options = {});
 
 }  // namespace mpeg4face

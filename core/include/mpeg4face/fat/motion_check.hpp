@@ -93,7 +93,7 @@ struct MotionCheck {
 using MotionProgress = std::function<void(std::size_t, std::size_t)>;
 
 // A head with shape keys (.glb): its keys in the grammar of fat/names.hpp
-// (deformedCopiesFromShapeKeys), and the streams through the tables made from them
+// (shapesFromShapeKeys), and the streams through the tables made from them
 // (faceFromShapeKeys).
 MotionCheck checkMotion(const FaceModel& head, std::span<const FapStream> streams,
                         const MotionLimits& limits = {}, const MotionProgress& progress = {});

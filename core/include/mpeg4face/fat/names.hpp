@@ -20,6 +20,7 @@
 
 #include "mpeg4face/fat/generate.hpp"
 #include "mpeg4face/model/face_model.hpp"
+#include "mpeg4face/model/face_shape.hpp"
 
 namespace mpeg4face {
 
@@ -40,18 +41,18 @@ std::optional<ShapeKeyName> parseShapeKeyName(std::string_view name);
 std::string formatShapeKeyName(const ShapeKeyName& key);
 
 struct ShapeKeyCopies {
-  std::vector<DeformedCopy> copies;  // in order of first appearance
+  std::vector<FaceShape> copies;     // in order of first appearance
   std::vector<std::string> ignored;  // target and animation names not ours, once each
 };
 
-// The morph targets of `model` as deformed copies of its basis (the model's own positions):
-// each of our names becomes one copy (the same name on several meshes moves each of them),
-// named after the target; the copies carry no morph targets or animations. An animation of
-// our name with transform channels is a pose: the copy of that name (made if no morph
-// target has it) takes the transforms' values at each channel's last key, so eyes, jaw and
-// head modelled as transforms get FaceDefTransforms. Throws mpeg4face::Error for a
+// The morph targets of `model` as shapes of its basis (the model's own positions): each of
+// our names becomes one shape (the same name on several meshes moves each of them), named
+// after the target, listing the vertices its morph targets move (non-zero rows). An
+// animation of our name with transform channels is a pose: the shape of that name (made if
+// no morph target has it) takes the transforms' values at each channel's last key, so eyes,
+// jaw and head modelled as transforms get FaceDefTransforms. Throws mpeg4face::Error for a
 // malformed name (see parseShapeKeyName), naming the mesh or the animation.
-ShapeKeyCopies deformedCopiesFromShapeKeys(const FaceModel& model);
+ShapeKeyCopies shapesFromShapeKeys(const FaceModel& model);
 
 // A face from a model with shape keys: its neutral (neutralFaceModel) with the FaceDefTables
 // generateFaceDefTables makes from its shape keys in the grammar, the FAPU measured on it.
