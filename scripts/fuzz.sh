@@ -16,8 +16,8 @@
 #   --max-len N  largest input libFuzzer makes (default: the table below, else libFuzzer's own,
 #                the larger of 4096 and the largest seed)
 #   TARGET       names as in core/fuzz/CMakeLists.txt (vrml, fap, ...); default all
-# Output: build/fuzz/campaign/<name>.log, artifacts in build/fuzz/campaign/artifacts/<name>/,
-# the summary also as a Markdown table in build/fuzz/campaign/summary.md. Exits non-zero if
+# Output: build/sanitize/campaign/<name>.log, artifacts in build/sanitize/campaign/artifacts/<name>/,
+# the summary also as a Markdown table in build/sanitize/campaign/summary.md. Exits non-zero if
 # any target has a finding or a regression input fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -50,9 +50,9 @@ fi
 # the grammar. A longer seed is read truncated to its first max_len bytes.
 declare -A default_max_len=([fap]=4096)
 
-build=build/fuzz
-CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPEG4FACE_FUZZ=ON \
-  -DMPEG4FACE_TESTS=OFF >/dev/null
+# The test command's sanitised build (scripts/test.sh), configured alike so the two share it.
+build=build/sanitize
+CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPEG4FACE_FUZZ=ON >/dev/null
 build_targets=()
 for name in "${targets[@]}"; do build_targets+=(--target "fuzz_$name"); done
 cmake --build "$build" -j"$(nproc)" "${build_targets[@]}"

@@ -442,7 +442,7 @@ TEST(Clone, CloneFaceMakesTablesThatReproduceTheCopies) {
   EXPECT_EQ(f.face.faceSceneGraph.meshes[0].coord, scaled.meshes[0].coord);
   for (const auto& [fap, select] : {std::pair{1, 10}, std::pair{2, 1}}) {
     EXPECT_EQ(std::ranges::count_if(f.face.faceDefTables,
-                                    [&](const FaceDefTables& t) {
+                                    [&, fap = fap, select = select](const FaceDefTables& t) {
                                       return t.fapID == fap && t.highLevelSelect == select;
                                     }),
               1)

@@ -351,7 +351,7 @@ TEST(PcaCodec, MalformedFiles) {
            {"pca_truncated.fba", "pca_basis (FAP group 8)", "truncated"}}) {
     const std::string data = readBytes(kData / "malformed" / file);
     ASSERT_FALSE(data.empty()) << file;
-    const Error e = errorOf([&] {
+    const Error e = errorOf([&, file = file] {
       decodeFba(std::span(reinterpret_cast<const std::uint8_t*>(data.data()), data.size()), file);
     });
     EXPECT_EQ(e.file(), file);

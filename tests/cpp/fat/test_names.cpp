@@ -96,7 +96,7 @@ TEST(ShapeKeyNames, MalformedNamesAreRejectedWithTheGrammar) {
       {"fap3@99999999999", "after '@' is not an integer"},
   };
   for (const auto& [name, why] : cases) {
-    const Error e = errorOf([&] { parseShapeKeyName(name); });
+    const Error e = errorOf([name = name] { parseShapeKeyName(name); });
     EXPECT_EQ(e.field(), "shape key '" + std::string(name) + "'");
     EXPECT_TRUE(contains(e.reason(), why)) << e.what();
     EXPECT_TRUE(contains(e.reason(), "fap<N>[_<name>]@<amplitude>")) << e.what();

@@ -214,7 +214,7 @@ TEST(Bookmarks, MalformedOnesNameTheirPositionInTheText) {
       {"a <FAP 3 99999999999999999999 1 1>", "is not a whole number"},
   };
   for (const auto& [text, message] : cases) {
-    const Error e = errorOf([&] { parseBookmarks(text); });
+    const Error e = errorOf([text = text] { parseBookmarks(text); });
     EXPECT_TRUE(has(e.what(), message)) << text << " -> " << e.what();
     EXPECT_EQ(e.field(), "bookmark");
   }
@@ -337,7 +337,7 @@ TEST(Flite, AMissingOrFailingSynthesiserIsAClearErrorAndLeavesNoAudio) {
       {"", "reported no phones"},
   };
   for (const auto& [output, message] : bad) {
-    const Error e = errorOf([&] { FlitePhonemeSource(fakeFlite(output)).synthesize("hi", wav); });
+    const Error e = errorOf([&, output = output] { FlitePhonemeSource(fakeFlite(output)).synthesize("hi", wav); });
     EXPECT_TRUE(has(e.what(), message)) << output << " -> " << e.what();
   }
   const Error failed =
