@@ -5,6 +5,7 @@
 #include <cctype>
 #include <nlohmann/json.hpp>
 
+#include "io/json_reader.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/io/files.hpp"
 
@@ -25,42 +26,14 @@ Json termJson(const FitTerm& term) {
   return j;
 }
 
-// Reading with the JSON path of every value, for messages.
-struct Reader {
-  std::string source;
-
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw Error(source, 0, path, path + ": " + what);
-  }
-  const Json& member(const Json& object, const std::string& path, const char* key) const {
-    if (!object.is_object()) fail(path, "expected an object");
-    const auto it = object.find(key);
-    if (it == object.end()) fail(path, std::string("has no \"") + key + "\"");
-    return *it;
-  }
-  const Json& array(const Json& object, const std::string& path, const char* key) const {
-    const Json& a = member(object, path, key);
-    if (!a.is_array()) fail(path + "." + key, "expected an array");
-    return a;
-  }
-  int integer(const Json& value, const std::string& path) const {
-    if (!value.is_number_integer()) fail(path, "expected an integer");
-    const auto v = value.get<long long>();
-    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()) {
-      fail(path, "out of range");
-    }
-    return static_cast<int>(v);
-  }
-  double number(const Json& value, const std::string& path) const {
-    if (!value.is_number()) fail(path, "expected a number");
-    return value.get<double>();
-  }
+// The FIT's own value: a term, with the JSON path of each of its values in errors.
+struct Reader : JsonReader<Json> {
   FitTerm term(const Json& j, const std::string& path) const {
     FitTerm t;
-    t.coefficient = number(member(j, path, "coefficient"), path + ".coefficient");
+    t.coefficient = number(j, path, "coefficient");
     const Json& exponents = array(j, path, "exponents");
     for (std::size_t i = 0; i < exponents.size(); ++i) {
-      t.exponents.push_back(integer(exponents[i], path + ".exponents[" + std::to_string(i) + "]"));
+      t.exponents.push_back(integer(exponents[i], elementPath(path + ".exponents", i)));
     }
     if (j.contains("impulse")) {
       const std::string at = path + ".impulse";
@@ -73,7 +46,7 @@ struct Reader {
         fail(at + ".select",
              "'" + select.get<std::string>() + "' is not viseme_select1/2 or expression_select1/2");
       }
-      t.impulseValue = integer(member(j["impulse"], at, "value"), at + ".value");
+      t.impulseValue = integer(j["impulse"], at, "value");
     }
     return t;
   }
@@ -128,40 +101,35 @@ std::string fitTableToJson(const FitTable& table) {
 }
 
 FitTable fitTableFromJson(const std::string& text, const std::string& source) {
-  const Reader r{source};
-  Json j;
-  try {
-    j = Json::parse(text);
-  } catch (const Json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw Error(source, 0, "JSON", std::string("not valid JSON: ") + e.what());
-  }
+  const Reader r{{source}};
+  const Json j = parseJson<Json>(text, source);
   const Json& format = r.member(j, "(top)", "format");
   if (format != kFormat) r.fail("format", std::string("expected \"") + kFormat + "\"");
-  if (r.integer(r.member(j, "(top)", "version"), "version") != 1) r.fail("version", "expected 1");
+  if (r.integer(j, "(top)", "version") != 1) r.fail("version", "expected 1");
   FitTable table;
   const Json& nodes = r.array(j, "(top)", "nodes");
   for (std::size_t n = 0; n < nodes.size(); ++n) {
-    const std::string path = "nodes[" + std::to_string(n) + "]";
+    const std::string path = r.elementPath("nodes", n);
     if (!nodes[n].is_array()) r.fail(path, "expected an array of FAP numbers");
     auto& faps = table.nodes.emplace_back();
     for (std::size_t i = 0; i < nodes[n].size(); ++i) {
-      faps.push_back(r.integer(nodes[n][i], path + "[" + std::to_string(i) + "]"));
+      faps.push_back(r.integer(nodes[n][i], r.elementPath(path, i)));
     }
   }
   const Json& links = r.array(j, "(top)", "links");
   for (std::size_t k = 0; k < links.size(); ++k) {
-    const std::string path = "links[" + std::to_string(k) + "]";
+    const std::string path = r.elementPath("links", k);
     FitLink& link = table.links.emplace_back();
-    link.parent = r.integer(r.member(links[k], path, "parent"), path + ".parent");
-    link.child = r.integer(r.member(links[k], path, "child"), path + ".child");
+    link.parent = r.integer(links[k], path, "parent");
+    link.child = r.integer(links[k], path, "child");
     if (link.child < 0 || link.child >= static_cast<int>(table.nodes.size())) {
       r.fail(path + ".child", "no node " + std::to_string(link.child));
     }
     const auto& child = table.nodes[static_cast<std::size_t>(link.child)];
     const Json& functions = r.array(links[k], path, "functions");
     for (std::size_t i = 0; i < functions.size(); ++i) {
-      const std::string at = path + ".functions[" + std::to_string(i) + "]";
-      const int fap = r.integer(r.member(functions[i], at, "fap"), at + ".fap");
+      const std::string at = r.elementPath(path + ".functions", i);
+      const int fap = r.integer(functions[i], at, "fap");
       if (i >= child.size() || child[i] != fap) {
         r.fail(at + ".fap", "FAP " + std::to_string(fap) + " is not the child node's FAP number " +
                                 std::to_string(i));
@@ -171,7 +139,7 @@ FitTable fitTableFromJson(const std::string& text, const std::string& source) {
            {std::pair{"numerator", &f.numerator}, std::pair{"denominator", &f.denominator}}) {
         const Json& list = r.array(functions[i], at, key);
         for (std::size_t t = 0; t < list.size(); ++t) {
-          terms->push_back(r.term(list[t], at + "." + key + "[" + std::to_string(t) + "]"));
+          terms->push_back(r.term(list[t], r.elementPath(at + "." + key, t)));
         }
       }
     }

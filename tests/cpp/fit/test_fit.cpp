@@ -436,6 +436,12 @@ TEST(FitJson, EveryPresetRoundTripsExactlyAndMalformedInputIsNamed) {
       << e.what();
   e = errorOf([&] { fitTableFromJson("{\"format\": ", "t.json"); });
   EXPECT_EQ(e.field(), "JSON");
+  e = fieldOf("\"child\": 1", "\"child\": 1,,");  // a syntax error: its line and column
+  EXPECT_GT(e.line(), 1) << e.what();
+  EXPECT_NE(e.reason().find("column "), std::string::npos) << e.what();
+  e = fieldOf("\"nodes\": [", "\"nodes\": 7, \"x\": [");
+  EXPECT_EQ(e.field(), "nodes") << e.what();
+  EXPECT_EQ(e.reason(), "expected an array") << e.what();
   e = fieldOf("\"coefficient\": 1.0", "\"coefficient\": 3E999999");  // found by fuzz_fit
   EXPECT_EQ(e.field(), "JSON");
   e = errorOf([&] { fitTableFromJson("{\"format\": \"other\", \"version\": 1}", "t.json"); });

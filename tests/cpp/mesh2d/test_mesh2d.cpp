@@ -356,6 +356,14 @@ TEST(Mesh2d, JsonRoundTripsAndNamesBadFields) {
   EXPECT_EQ(e.field(), "frames[1]");
   e = errorOf([] { parseMesh2dJson(R"({"width": 4, "height": 4, "mesh": "hex", "frames": []})"); });
   EXPECT_EQ(e.field(), "mesh");
+  e = errorOf([] { parseMesh2dJson(R"({"width": 4})"); });  // a missing member, at its object
+  EXPECT_EQ(e.field(), "(top)");
+  EXPECT_EQ(e.reason(), "has no \"height\"");
+  e = errorOf([] {
+    parseMesh2dJson(R"({"width": 4, "height": 4, "mesh": "uniform", "uniform": {"nodes_x": 2}})");
+  });
+  EXPECT_EQ(e.field(), "uniform");
+  EXPECT_EQ(e.reason(), "has no \"nodes_y\"");
 }
 
 TEST(Mesh2d, TruncatedOrForeignStreamsAreNamed) {
