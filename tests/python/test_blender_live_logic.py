@@ -63,7 +63,8 @@ def old_arithmetic(model, result, chain):
              for t, r, s, c in zip(result["translation"], result["rotation"], result["scale"],
                                    model.transforms)]
     matrix = np.linalg.inv(product(neutral[i] for i in chain)) @ product(local[i] for i in chain)
-    rotation, translation = live_logic.blender_placement(matrix)
+    turn = live_logic.TO_BLENDER
+    rotation, translation = turn @ matrix[:3, :3], turn @ matrix[:3, 3]
     return matrix, rotation, translation
 
 

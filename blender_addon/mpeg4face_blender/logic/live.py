@@ -15,12 +15,6 @@ TO_BLENDER = np.array(((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0)))
 Array32 = npt.NDArray[np.float32]
 
 
-def blender_placement(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(R, t) such that coords @ R.T + t is `matrix` (4, 4, standard axes) applied to
-    standard-axes coordinates and the result turned into Blender's axes."""
-    return TO_BLENDER @ matrix[:3, :3], TO_BLENDER @ matrix[:3, 3]
-
-
 def placed_normals(normals: npt.ArrayLike, placement: np.ndarray) -> Array32:
     """Normals of standard-axes coordinates, turned as `placement` (4, 4, from
     object_coordinates: into the object's frame, in Blender's axes) turns the coordinates

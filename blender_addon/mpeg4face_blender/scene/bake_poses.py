@@ -10,7 +10,6 @@ is named in the report instead."""
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass, field
 
 import bpy
@@ -46,11 +45,11 @@ def marker_faps(scene: bpy.types.Scene) -> set[int]:
     return out
 
 
-def _blender(matrix: np.ndarray) -> Matrix:
-    """A standard-axes 4x4 acting on standard coordinates as the Blender-axes one."""
-    rotation, translation = live_logic.blender_placement(matrix)
-    out = np.eye(4)
-    out[:3, :3], out[:3, 3] = rotation @ live_logic.TO_BLENDER.T, translation
+def _blender(placement: np.ndarray) -> Matrix:
+    """object_coordinates' placement (standard-axes coordinates in, Blender's out) as the
+    matrix acting on Blender-axes coordinates."""
+    out = np.array(placement, dtype=float)
+    out[:3, :3] = out[:3, :3] @ live_logic.TO_BLENDER.T
     return Matrix(out.tolist())
 
 
@@ -67,28 +66,20 @@ def key_poses(head: bpy.types.Object, scene: bpy.types.Scene, key_names,
     objects = [head, *poses.parts(head)]
     model, _ = poses.read_posed_face_model(head, key_names, scene)
     evaluator = mpeg4face.FatEvaluator(mpeg4face.generate_face(model)["face"])
-    neutral = [t.local_matrix() for t in model.transforms]
-    centers = [t.center for t in model.transforms]
     was = scene.frame_current
     scene.frame_set(poses.neutral_frame(scene))
     worlds = [o.matrix_world.copy() for o in objects]
     scene.frame_set(was)
 
-    def product(matrices: list[np.ndarray], chain: tuple[int, ...]) -> np.ndarray:
-        return functools.reduce(np.matmul, (matrices[i] for i in chain))
-
-    chains = [(0,)] + [(0, i) for i in range(1, len(objects))]
-    unposed = [np.linalg.inv(product(neutral, c)) for c in chains]
+    # The live preview's chains and placements (live_preview.py): the core places each part.
+    chains = [[0]] + [[0, i] for i in range(1, len(objects))]
     numbers = stream.frame_numbers
     placed: list[list[Matrix]] = [[] for _ in objects]  # world matrix per object per frame
     for k in range(frames):
         index = stream_logic.live_index(numbers, stream.frame_rate, k / fps)
-        result = evaluator.evaluate(stream, index)
-        local = [mpeg4face.Transform(translation=t, rotation=r, scale=s, center=c).local_matrix()
-                 for t, r, s, c in zip(result["translation"], result["rotation"],
-                                       result["scale"], centers)]
-        for i, chain in enumerate(chains):
-            placed[i].append(worlds[i] @ _blender(unposed[i] @ product(local, chain)))
+        result = evaluator.object_coordinates(stream, index, chains, live_logic.TO_BLENDER)
+        for i, placement in enumerate(result["placement"]):
+            placed[i].append(worlds[i] @ _blender(placement))
 
     # Parents before children: a child's keys hold it where the live preview shows it
     # under its keyed parent.
