@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Baking the poses a stream drives (eyes, head, the jaw's parts: FAPs 23-26, 48-50, 3 ...,
 docs/fat.md "Poses") as object keyframes beside the shape-key animation, so that the bake
-shows what the live preview shows: the core evaluates the face's Transforms at each scene
+shows what the live preview shows: the core places each part (object_coordinates) at each scene
 frame (sample and hold, as the live preview) and each object of the face is keyed where
 the live preview shows it (location, rotation, scale, every frame of the stream).
 
