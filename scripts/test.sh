@@ -4,7 +4,7 @@
 # Blender test, then the C++ tests again under ASan+UBSan, each fuzz target for a bounded
 # time, and a new user's path (scripts/new_user_test.sh: the demo in a fresh clone). Exits
 # non-zero on the first failure.
-# Environment: MPEG4FACE_FUZZ_SECONDS (default 30 per target).
+# Environment: MPEG4FACE_FUZZ_SECONDS (default 20 per target).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -69,7 +69,7 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   counted ctest-sanitize.log ctest --test-dir build/sanitize --output-on-failure -j"$jobs"
 tally_ctest ctest-sanitize.log
 
-step "fuzz targets (${MPEG4FACE_FUZZ_SECONDS:-30} s each)"
+step "fuzz targets (${MPEG4FACE_FUZZ_SECONDS:-20} s each)"
 mkdir -p build/sanitize/artifacts
 for target in build/sanitize/fuzz/fuzz_*; do
   name=$(basename "$target")
@@ -87,7 +87,7 @@ for target in build/sanitize/fuzz/fuzz_*; do
     echo "$name FAILED on a regression input of tests/fuzz_regressions/${name#fuzz_}/"
     exit 1
   fi
-  if ! "$target" -max_total_time="${MPEG4FACE_FUZZ_SECONDS:-30}" -rss_limit_mb=2048 -timeout=10 \
+  if ! "$target" -max_total_time="${MPEG4FACE_FUZZ_SECONDS:-20}" -rss_limit_mb=2048 -timeout=10 \
       -print_final_stats=1 -artifact_prefix=build/sanitize/artifacts/ "$corpus" >"$log" 2>&1; then
     tail -n 60 "$log"
     echo "$name FAILED; the input is in build/sanitize/artifacts/"
