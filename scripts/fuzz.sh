@@ -16,9 +16,10 @@
 #   --max-len N  largest input libFuzzer makes (default: the table below, else libFuzzer's own,
 #                the larger of 4096 and the largest seed)
 #   TARGET       names as in core/fuzz/CMakeLists.txt (vrml, fap, ...); default all
-# Output: build/sanitize/campaign/<name>.log, artifacts in build/sanitize/campaign/artifacts/<name>/,
-# the summary also as a Markdown table in build/sanitize/campaign/summary.md. Exits non-zero if
-# any target has a finding or a regression input fails.
+# Output: build/sanitize/campaign/<name>.log, artifacts in
+# build/sanitize/campaign/artifacts/<name>/, the summary also as a Markdown table in
+# build/sanitize/campaign/summary.md. Exits non-zero if any target has a finding or a
+# regression input fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -52,10 +53,9 @@ declare -A default_max_len=([fap]=4096)
 
 # The test command's sanitised build (scripts/test.sh), configured alike so the two share it.
 build=build/sanitize
-CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPEG4FACE_FUZZ=ON >/dev/null
-build_targets=()
-for name in "${targets[@]}"; do build_targets+=(--target "fuzz_$name"); done
-cmake --build "$build" -j"$(nproc)" "${build_targets[@]}"
+fuzz_targets=("${targets[@]/#/fuzz_}")
+CXX=clang++ MPEG4FACE_BUILD_TARGETS="${fuzz_targets[*]}" \
+  scripts/build.sh "$build" -DMPEG4FACE_FUZZ=ON
 
 campaign=$build/campaign
 mkdir -p "$campaign"

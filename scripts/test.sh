@@ -62,9 +62,7 @@ step "C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 # One clang build serves the sanitised tests and the fuzz targets (everything instrumented
 # with ASan, UBSan and libFuzzer's coverage), optimised (-O2 -g): the cloning and codec tests
 # run tens of times slower unoptimised, and a second sanitised build cost CI a quarter hour.
-CXX=clang++ cmake -S . -B build/sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPEG4FACE_FUZZ=ON \
-  >/dev/null
-cmake --build build/sanitize -j"$jobs"
+CXX=clang++ scripts/build.sh build/sanitize -DMPEG4FACE_FUZZ=ON
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   counted ctest-sanitize.log ctest --test-dir build/sanitize --output-on-failure -j"$jobs"
 tally_ctest ctest-sanitize.log

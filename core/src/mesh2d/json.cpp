@@ -25,7 +25,6 @@ void appendNumber(std::string& out, double value) {
 Mesh2dSequence parseMesh2dJson(std::string_view text, const std::string& source) {
   const Json j = parseJson<Json>(text, source);
   const JsonReader<Json> r{source};
-  if (!j.is_object()) r.fail("(top)", "expected an object");
   Mesh2dSequence s;
   s.width = r.integer(j, "(top)", "width");
   s.height = r.integer(j, "(top)", "height");
