@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "fat/add_runs.hpp"
 #include "fat/support.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/spec.hpp"
@@ -383,66 +384,13 @@ FatState FatEvaluator::evaluate(const FapFrame& frame) const {
 
 namespace {
 
-// Vertices are handled 8 at a time: 24 interleaved x, y, z floats, whole AVX registers.
-constexpr std::size_t kBlock = 8;
-
-// w += B * b + C * s over runs of consecutive vertex slots (first slot, length) whose entries
-// follow one another, x, y, z interleaved in w, b and s; B and C per axis (the stored units'
-// steps, C also times the interval's coordinate). One flat loop per run that the compiler
-// vectorises: B and C are repeated over a block so that each register sees the same axes at
-// each step.
-template <typename Stored>
-[[gnu::always_inline]] inline void addRunsOf(const std::pair<std::uint32_t, std::uint32_t>* runs,
-                                             std::size_t runCount, float* __restrict work,
-                                             const Stored* __restrict base,
-                                             const Stored* __restrict slope, const float* B,
-                                             const float* C) {
-  constexpr std::size_t kFloats = 3 * kBlock;
-  float bs[kFloats], cs[kFloats];
-  for (std::size_t i = 0; i < kFloats; ++i) bs[i] = base ? B[i % 3] : 0.0f, cs[i] = C[i % 3];
-  using F = float;
-  // w[0 .. n) += the motion of n floats from the start of a block (n <= kFloats).
-  const auto add = [&](float* __restrict w, const Stored* __restrict b, const Stored* __restrict s,
-                       std::size_t n) {
-    if (b) {
-      for (std::size_t k = 0; k < n; ++k) w[k] += bs[k] * F(b[k]) + cs[k] * F(s[k]);
-    } else {
-      for (std::size_t k = 0; k < n; ++k) w[k] += cs[k] * F(s[k]);
-    }
-  };
-  for (std::size_t r = 0; r < runCount; ++r) {
-    const auto [first, length] = runs[r];
-    float* __restrict w = work + 3 * std::size_t(first);
-    const std::size_t floats = 3 * std::size_t(length);
-    std::size_t i = 0;
-    for (; i + kFloats <= floats; i += kFloats) {
-      add(w + i, base ? base + i : nullptr, slope + i, kFloats);
-    }
-    add(w + i, base ? base + i : nullptr, slope + i, floats - i);
-    if (base) base += floats;
-    slope += floats;
-  }
-}
-
-// On x86-64 the runs are also compiled for AVX2 (8 floats a step instead of SSE2's 4) and
+// On x86-64 the final pass is also compiled for AVX2 (8 floats a step instead of SSE2's 4) and
 // the CPU picks the version when the program loads.
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define MPEG4FACE_AVX2_CLONE __attribute__((target_clones("avx2", "default")))
 #else
 #define MPEG4FACE_AVX2_CLONE
 #endif
-
-MPEG4FACE_AVX2_CLONE
-void addRuns(const std::pair<std::uint32_t, std::uint32_t>* runs, std::size_t runCount, float* work,
-             const float* base, const float* slope, const float* B, const float* C) {
-  addRunsOf(runs, runCount, work, base, slope, B, C);
-}
-
-MPEG4FACE_AVX2_CLONE
-void addRuns(const std::pair<std::uint32_t, std::uint32_t>* runs, std::size_t runCount, float* work,
-             const std::int16_t* base, const std::int16_t* slope, const float* B, const float* C) {
-  addRunsOf(runs, runCount, work, base, slope, B, C);
-}
 
 // p = p0 + the summed motion (both x, y, z interleaved: one flat loop), and the sums reset.
 MPEG4FACE_AVX2_CLONE
@@ -513,6 +461,7 @@ template <typename Stored>
 void FatEvaluator::addMotion(const FapFrame& frame, FatState& state) const {
   float* work = state.work.data();
   const FapBits active = frame.mask & lowLevelWithTables_;
+  const fat::RunsKernel kernel = fat::bestRunsKernel();
   for (const Table& t : tables_) {
     if (!frame.has(t.fapID)) continue;
     const int value = tableInput(t.fapID, t.highLevelSelect, frame);
@@ -524,7 +473,8 @@ void FatEvaluator::addMotion(const FapFrame& frame, FatState& state) const {
         addMeshByVertex<Stored>(m, value, work, priority);
       } else {
         const IntervalMotion<Stored> at = intervalMotion<Stored>(m, value);
-        addRuns(m.runs.data(), m.runs.size(), work, at.base, at.slope, at.B.data(), at.C.data());
+        fat::addRuns(m.runs.data(), m.runs.size(), work, at.base, at.slope, at.B.data(),
+                     at.C.data(), kernel);
       }
     }
     for (const TransformDef& d : t.transforms) {
