@@ -20,6 +20,13 @@ struct BlockFactors {
   }
 };
 
+// Float k of a block's motion from its stored base and slope: the rounding every kernel keeps.
+template <bool withBase, typename Stored>
+[[gnu::always_inline]] inline float motion(const BlockFactors& f, std::size_t k, Stored b,
+                                           Stored s) {
+  return withBase ? f.B[k] * float(b) + f.C[k] * float(s) : f.C[k] * float(s);
+}
+
 // Portable: blocks as flat loops the compiler vectorises, the rest one by one.
 template <bool withBase, typename Stored>
 void addRunsPortable(const Run* runs, std::size_t runCount, float* __restrict work,
@@ -28,9 +35,7 @@ void addRunsPortable(const Run* runs, std::size_t runCount, float* __restrict wo
   // w[0 .. n) += the motion of n floats from the start of a block (n <= kFloats).
   const auto add = [&](float* __restrict w, const Stored* __restrict b, const Stored* __restrict s,
                        std::size_t n) {
-    for (std::size_t k = 0; k < n; ++k) {
-      w[k] += withBase ? f.B[k] * float(b[k]) + f.C[k] * float(s[k]) : f.C[k] * float(s[k]);
-    }
+    for (std::size_t k = 0; k < n; ++k) w[k] += motion<withBase>(f, k, b[k], s[k]);
   };
   for (std::size_t r = 0; r < runCount; ++r) {
     float* __restrict w = work + 3 * std::size_t(runs[r].first);
@@ -78,10 +83,7 @@ template <bool withBase, typename Stored>
     }
     std::size_t k = 0;  // the register of the block that comes next
     for (; i + 8 <= floats; i += 8, ++k) add8<withBase>(w + i, base + i, slope + i, B[k], C[k]);
-    for (k *= 8; i < floats; ++i, ++k) {
-      w[i] +=
-          withBase ? f.B[k] * float(base[i]) + f.C[k] * float(slope[i]) : f.C[k] * float(slope[i]);
-    }
+    for (k *= 8; i < floats; ++i, ++k) w[i] += motion<withBase>(f, k, base[i], slope[i]);
     if (withBase) base += floats;
     slope += floats;
   }
