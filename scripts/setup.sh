@@ -8,6 +8,7 @@ cd "$(dirname "$0")/.."
 
 packages=(
   cmake make g++ clang libclang-rt-14-dev   # build, sanitizers, libFuzzer
+  ccache                                    # rebuilds of unchanged sources (scripts/build.sh)
   libeigen3-dev libtinygltf-dev nlohmann-json3-dev libgtest-dev
   libopenmesh-dev                           # mesh_resample: decimation and subdivision
   python3 python3-dev pybind11-dev python3-numpy python3-pytest
