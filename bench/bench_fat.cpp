@@ -78,26 +78,36 @@ struct Timing {
     return {kept.empty() ? 0.0 : median(kept), kept.size()};
   }
 };
-Timing medianMilliseconds(int runs, int repeats, const std::function<void()>& work) {
-  Timing t{};
-  std::vector<double> wall;
+// Times the works in turn, run by run (so that what the machine does at a moment falls on all
+// of them alike), each run `repeats` calls of one work.
+std::vector<Timing> medianMilliseconds(int runs, int repeats,
+                                       const std::vector<std::function<void()>>& works) {
+  std::vector<Timing> t(works.size());
+  std::vector<std::vector<double>> wall(works.size());
   double before = probe();
   for (int i = 0; i < runs; ++i) {
-    const double c0 = thisThreadMs();
-    const auto w0 = std::chrono::steady_clock::now();
-    for (int r = 0; r < repeats; ++r) work();
-    wall.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count() /
-        repeats);
-    t.runCpuMs.push_back((thisThreadMs() - c0) / repeats);
-    const double after = probe();
-    t.runProbe.push_back(std::min(before, after));
-    before = after;
+    for (std::size_t k = 0; k < works.size(); ++k) {
+      const double c0 = thisThreadMs();
+      const auto w0 = std::chrono::steady_clock::now();
+      for (int r = 0; r < repeats; ++r) works[k]();
+      wall[k].push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - w0).count() /
+          repeats);
+      t[k].runCpuMs.push_back((thisThreadMs() - c0) / repeats);
+      const double after = probe();
+      t[k].runProbe.push_back(std::min(before, after));
+      before = after;
+    }
   }
-  t.cpuMs = median(t.runCpuMs);
-  t.wallMs = median(wall);
-  t.bestCpuMs = *std::min_element(t.runCpuMs.begin(), t.runCpuMs.end());
+  for (std::size_t k = 0; k < works.size(); ++k) {
+    t[k].cpuMs = median(t[k].runCpuMs);
+    t[k].wallMs = median(wall[k]);
+    t[k].bestCpuMs = *std::min_element(t[k].runCpuMs.begin(), t[k].runCpuMs.end());
+  }
   return t;
+}
+Timing medianMilliseconds(int runs, int repeats, const std::function<void()>& work) {
+  return medianMilliseconds(runs, repeats, std::vector<std::function<void()>>{work})[0];
 }
 
 FaceModel syntheticHead() {
@@ -196,13 +206,21 @@ int main() {
   FatState state = eval.neutralState();
   int frame = 0;
   // Many short runs, so that enough of them fall where the core is the thread's alone.
-  const auto timeStream = [&](const FatEvaluator& e, const std::vector<FapFrame>& frames) {
-    return medianMilliseconds(kStreamRuns, 20, [&] { e.evaluate(frames[frame++ % 250], state); });
+  const auto evaluateNext = [&](const FatEvaluator& e, const std::vector<FapFrame>& frames) {
+    return [&] { e.evaluate(frames[frame++ % 250], state); };
   };
-  const Timing fat = timeStream(eval, stream);
-  const Timing fatFloat = timeStream(evalFloat, stream);
-  const Timing fatRandom = timeStream(eval, random);
-  const Timing fatFloatRandom = timeStream(evalFloat, random);
+  // Beside the stream, in alternate runs: what every frame costs whatever its tables (the
+  // summed motion added to the double neutral positions into the state's double coordinates,
+  // the sums reset), timed alone as frames in which no FAP is present.
+  const std::vector<FapFrame> empty(250);
+  const std::vector<Timing> streamAndPass =
+      medianMilliseconds(kStreamRuns, 20, {evaluateNext(eval, stream), evaluateNext(eval, empty)});
+  const Timing& fat = streamAndPass[0];
+  const Timing& finalPass = streamAndPass[1];
+  const Timing fatFloat = medianMilliseconds(kStreamRuns, 20, evaluateNext(evalFloat, stream));
+  const Timing fatRandom = medianMilliseconds(kStreamRuns, 20, evaluateNext(eval, random));
+  const Timing fatFloatRandom =
+      medianMilliseconds(kStreamRuns, 20, evaluateNext(evalFloat, random));
 
   // What 16 bits cost: the largest difference from float over the stream, against the
   // largest motion of a vertex in the same frames.
@@ -262,12 +280,23 @@ int main() {
         t.runCpuMs.size());
   };
   row("evaluate, 16-bit tables", fat, double(displacementsPerFrame));
+  {
+    const auto [passMs, passRuns] = finalPass.wholeCore();
+    const auto [fatMs, fatRuns] = fat.wholeCore();
+    std::printf(
+        "%-32s %6.3f ms/frame; whole core %6.3f ms (%zu of %zu runs), %.0f%% of a 16-bit frame; "
+        "the frame less it: %.2f G/s\n",
+        "  of which: the final pass", finalPass.cpuMs, passMs, passRuns, finalPass.runCpuMs.size(),
+        passRuns && fatRuns ? 100 * passMs / fatMs : 0.0,
+        passRuns && fatRuns && fatMs > passMs ? rate(double(displacementsPerFrame), fatMs - passMs)
+                                              : 0.0);
+  }
   row("  same, random values (worst)", fatRandom, double(displacementsPerFrame));
   row("evaluate, float tables", fatFloat, double(displacementsPerFrame));
   row("  same, random values (worst)", fatFloatRandom, double(displacementsPerFrame));
   row("dense morph targets (baseline)", baseline, double(kActiveFaps) * vertices);
   std::vector<double> probes;
-  for (const Timing* t : {&fat, &fatRandom, &fatFloat, &fatFloatRandom, &baseline}) {
+  for (const Timing* t : {&fat, &fatRandom, &fatFloat, &fatFloatRandom, &finalPass, &baseline}) {
     probes.insert(probes.end(), t->runProbe.begin(), t->runProbe.end());
   }
   std::printf("%-32s %.2f of the whole core as a median, %.2f at the least (%.2f G steps/s)\n",
