@@ -18,7 +18,14 @@ if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
 fi
+# pybind11 is the pinned one of scripts/requirements/build.txt (scripts/setup.sh installs it in
+# build/venv-build), the one the wheel is built with: numpy 1 and 2 from one binary.
+if [ ! -x build/venv-build/bin/python ]; then
+  echo "build: build/venv-build (the pinned pybind11) is missing: run scripts/setup.sh first" >&2
+  exit 1
+fi
 cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPython_EXECUTABLE=/usr/bin/python3 \
+  -Dpybind11_DIR="$(build/venv-build/bin/python -m pybind11 --cmakedir)" \
   "${launcher[@]}" "$@" >/dev/null
 targets=()
 for target in ${MPEG4FACE_BUILD_TARGETS:-}; do targets+=(--target "$target"); done

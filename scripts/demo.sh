@@ -24,8 +24,8 @@ started=$SECONDS
 
 step() { printf '\n=== %s\n' "$*"; }
 
-step "setup (what is missing from Debian's packages and npm)"
-scripts/setup.sh
+step "setup (what is missing from Debian's packages, npm and PyPI)"
+scripts/setup.sh --demo
 step "build (the CLI and the Python module)"
 MPEG4FACE_BUILD_TARGETS="mpeg4face_cli _core" scripts/build.sh build/release
 cli=build/release/bin/mpeg4face

@@ -12,10 +12,12 @@
 #include "mpeg4face/io/files.hpp"
 #include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/mesh2d/codec.hpp"
-#include "mpeg4face/mesh2d/design.hpp"
 #include "mpeg4face/mesh2d/json.hpp"
 #include "mpeg4face/mesh2d/portrait.hpp"
+#if MPEG4FACE_PYTHON_IMAGES
+#include "mpeg4face/mesh2d/design.hpp"
 #include "mpeg4face/mesh2d/render.hpp"
+#endif
 
 namespace mpeg4face::python {
 namespace {
@@ -120,6 +122,7 @@ void bindMesh2d(py::module_& m) {
             std::span(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()), "bytes"));
       },
       "data"_a, "Decodes .m2d bytes to a sequence dict (triangles included).");
+#if MPEG4FACE_PYTHON_IMAGES
   m.def(
       "design_mesh2d",
       [](const Path& image, std::optional<std::pair<int, int>> uniform, std::optional<int> delaunay,
@@ -151,6 +154,21 @@ void bindMesh2d(py::module_& m) {
       },
       "image"_a, "sequence"_a, "out"_a, "audio"_a = py::none(), "fps"_a = 25.0,
       "Renders the image warped by every plane: PNG frames into a folder, or an .mp4.");
+#else
+  // A module built without OpenCV (the wheel) keeps the names, so that code using them fails
+  // with the reason instead of an AttributeError.
+  for (const char* name : {"design_mesh2d", "render_mesh2d"}) {
+    m.def(
+        name,
+        [name](const py::args&, const py::kwargs&) {
+          throw Error(std::string(name) +
+                      ": this build of mpeg4face has no image functions (it was built without "
+                      "OpenCV, as the wheel is); use the command-line tool's `mesh2d design` / "
+                      "`mesh2d render`, or build the module with -DMPEG4FACE_PYTHON_IMAGES=ON");
+        },
+        "Not in this build: it was made without OpenCV.");
+  }
+#endif
   m.def(
       "portrait_mesh2d",
       [](int width, int height, const Path& featurePoints, const std::optional<Path>& stream,
