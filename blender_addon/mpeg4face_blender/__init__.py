@@ -5,8 +5,10 @@ Layout (like Blender's glTF add-on, a bpy-free layer under a thin bpy one):
 - native.py: finds and loads mpeg4face (bpy-free; the preferences show why it failed)
 - logic/: bpy-free (numpy and mpeg4face), tested with plain pytest
 - scene/: the bpy data layer: reads and writes meshes, shape keys, rigs, keyframes;
-  scene/compat.py holds what differs between Blender 3.x and 4.x
-- ui/: properties, preferences, operators/ (a module per concern), panels/, text helpers;
+  scene/compat.py holds what differs between Blender versions (3.4, 4.2 LTS and later, 5.0)
+  and which ones the add-on supports
+- ui/: properties, preferences, operators/ (a module per concern), panels/, text helpers,
+  file_handlers (drag and drop);
   ui.feature_modules() is the registration list
 Nothing here imports bpy at import time, so the bpy-free modules can be tested with plain
 pytest.
@@ -14,6 +16,7 @@ pytest.
 
 from __future__ import annotations
 
+import sys
 from types import ModuleType
 
 from . import native
@@ -33,10 +36,17 @@ _registered: list[ModuleType] = []
 
 
 def register() -> None:
-    """Registers the preferences always and the rest only when mpeg4face imports; never
-    raises, so Blender keeps the add-on enabled and the preferences can say what is wrong."""
+    """Registers the preferences always and the rest only on a Blender the add-on supports
+    (scene/compat.py) and when mpeg4face imports; never raises, so Blender keeps the add-on
+    enabled and the preferences can say what is wrong."""
+    from .scene import compat
     from .ui import preferences
 
+    preferences.unsupported = compat.unsupported()
+    if preferences.unsupported is not None:
+        print(preferences.unsupported, file=sys.stderr)
+        preferences.register()
+        return
     status = native.load()
     try:
         preferences.register()

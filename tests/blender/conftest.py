@@ -18,6 +18,16 @@ DATA = Path(__file__).resolve().parent.parent / "data"
 if bpy is not None:
     addon_utils.enable(ADDON, default_set=True)
 
+# Blender as a Python module (PyPI's bpy) runs in the background only and has no executable
+# (bpy.app.binary_path is ""): tests that start a Blender of their own, or need a window,
+# run in a Blender application only.
+def needs_blender_executable(why: str = ""):
+    """Skips the test (a mark) where Blender is a Python module: the reason says so, and
+    why the test needs the executable."""
+    return pytest.mark.skipif(
+        bpy is None or not bpy.app.binary_path,
+        reason=f"needs the blender executable{why} (bpy as a module has none)")
+
 
 @pytest.fixture
 def addon_disabled():

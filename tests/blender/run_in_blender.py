@@ -1,8 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Runs the pytest suite of tests/blender inside Blender.
+"""Runs the pytest suite of tests/blender inside Blender, or with Blender as a Python module.
 
     MPEG4FACE_PYTHONPATH=$PWD/build/python \\
         blender -b --factory-startup --python-exit-code 1 --python tests/blender/run_in_blender.py
+    MPEG4FACE_PYTHONPATH=$PWD/build/python build/venv-bpy-4.5/bin/python tests/blender/run_in_blender.py
+
+The second form runs in a virtual environment holding PyPI's bpy (scripts/setup.sh makes one
+per Blender version); bpy is imported first, then pytest runs as it does inside Blender.
 
 MPEG4FACE_PYTHONPATH is the build's python folder (the one holding mpeg4face/). Blender's
 Python must be the one the module was built for (Debian's Blender runs /usr/bin/python3's
@@ -28,15 +32,26 @@ def main() -> int:
         if path not in sys.path:
             sys.path.insert(0, path)
     # Debian's Blender normally has the system site-packages (numpy, pytest) on sys.path;
-    # add them if this one does not.
+    # add them if this one does not. A virtual environment with bpy has its own.
     dist = "/usr/lib/python3/dist-packages"
-    if os.path.isdir(dist) and dist not in sys.path:
+    in_venv = sys.prefix != sys.base_prefix
+    if not in_venv and os.path.isdir(dist) and dist not in sys.path:
         sys.path.append(dist)
     sys.dont_write_bytecode = True
 
+    import bpy  # noqa: F401 - with bpy as a module, Blender starts here
+
+    # Inside Blender, pytest's arguments follow "--"; with bpy, they are the script's own.
+    if "--" in sys.argv:
+        extra = sys.argv[sys.argv.index("--") + 1:]
+    else:
+        extra = sys.argv[1:] if os.path.basename(sys.argv[0]) == "run_in_blender.py" else []
+    if extra == ["--version"]:  # scripts/test.sh names the Blender it runs the suite in
+        print("VERSION=" + bpy.app.version_string.split()[0])
+        return 0
+
     import pytest
 
-    extra = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     rc = int(pytest.main(["-q", "-p", "no:cacheprovider", HERE, *extra]))
     if rc == int(pytest.ExitCode.NO_TESTS_COLLECTED):
         print("run_in_blender.py: pytest collected no tests", file=sys.stderr)
@@ -44,4 +59,12 @@ def main() -> int:
     return rc
 
 
-raise SystemExit(main())
+status = main()
+bpy_module = sys.modules.get("bpy")
+if bpy_module is not None and not bpy_module.app.binary_path:
+    # bpy as a module (no executable): its exit handlers can wait for good once the suite
+    # has run (4.5: a static destructor waits on a thread that has gone), so leave without.
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
+raise SystemExit(status)

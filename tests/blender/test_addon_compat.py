@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""scene/compat.py, the Blender version differences: on this Blender the helpers give what the
-add-on used before they existed (Action.fcurves, SequenceEditor.sequences on 3.4), and
-stand-ins with only the 4.4 / 5.0 names (strips; slots, layers, channelbags and no
-Action.fcurves) take the new path. Run through run_in_blender.py."""
+"""scene/compat.py, the Blender version differences: on this Blender the helpers give what
+Blender itself uses (the action's F-curves as keyframe_insert makes them: Action.fcurves
+before 4.4, a slot's channelbag from 4.4; SequenceEditor.sequences before 4.4, strips from
+4.4), and stand-ins with only the 4.4 / 5.0 names (strips; slots, layers, channelbags and no
+Action.fcurves) take the new path. The tests ask Blender for features, not for its version
+(compat.py is the one place that reads it). Run through run_in_blender.py."""
 
 from types import SimpleNamespace
 
@@ -14,7 +16,6 @@ from mpeg4face_blender.scene import compat  # noqa: E402
 
 PATH = 'key_blocks["open"].value'
 GROUP = "MPEG-4 FAP stream"
-BEFORE_4_4 = bpy.app.version < (4, 4, 0)
 
 
 @pytest.fixture
@@ -33,9 +34,24 @@ def key():
     bpy.data.meshes.remove(mesh)
 
 
-def test_this_blender_picks_its_api():
-    assert compat.SLOTTED_ACTIONS is not BEFORE_4_4
-    assert compat.Strip is getattr(bpy.types, "Sequence" if BEFORE_4_4 else "Strip")
+def test_this_blender_picks_its_api(key):
+    # 4.4 renamed Sequence to Strip, the old name gone.
+    assert compat.Strip is getattr(bpy.types, "Strip", None) or bpy.types.Sequence
+    # Blender's own keying makes a slotted action (4.4 on) or a plain one: compat follows.
+    key.key_blocks["open"].value = 0.5  # a new key's value is 0 before 5.0, 1 from 5.0
+    key.key_blocks["open"].keyframe_insert("value", frame=1)
+    animation = key.animation_data
+    animation.action.name = "compat keyed"  # removed by the fixture
+    slot = getattr(animation, "action_slot", None)  # AnimData.action_slot: 4.4 on
+    assert compat.SLOTTED_ACTIONS is (slot is not None)
+    fcurves = compat.action_fcurves(animation)
+    assert [c.data_path for c in fcurves] == [PATH]
+    assert fcurves[0].evaluate(1) == pytest.approx(0.5)
+    if slot is not None:  # the slot's channelbag, the one Blender keyed into
+        assert len(animation.action.slots) == 1
+        assert fcurves == animation.action.layers[0].strips[0].channelbag(slot).fcurves
+    else:
+        assert fcurves == animation.action.fcurves
 
 
 def test_new_fcurve_animates_the_key(key):
@@ -48,19 +64,47 @@ def test_new_fcurve_animates_the_key(key):
     assert fcurves[0].group.name == GROUP
     bpy.context.scene.frame_set(1)
     assert key.key_blocks["open"].value == pytest.approx(0.75)
-    if BEFORE_4_4:  # the action's own list, as bake_stream used it
-        assert fcurves == animation.action.fcurves
-        assert animation.action.groups.keys() == [GROUP]
+    action = animation.action
+    if compat.SLOTTED_ACTIONS:  # in the channelbag of the ID's slot, named after the ID
+        slot = animation.action_slot
+        assert [s.name_display for s in action.slots] == [key.name]
+        assert slot.target_id_type == "KEY"
+        bag = action.layers[0].strips[0].channelbag(slot)
+        assert fcurves == bag.fcurves and bag.groups.keys() == [GROUP]
+        if hasattr(action, "fcurves"):  # 4.4 and 4.5: a proxy for the first slot's curves
+            assert list(action.fcurves) == list(fcurves)
+    else:  # the action's own list, as bake_stream used it
+        assert fcurves == action.fcurves
+        assert action.groups.keys() == [GROUP]
+
+
+def test_reading_fcurves_creates_nothing(key):
+    animation = key.animation_data_create()
+    assert list(compat.action_fcurves(animation)) == []  # no action
+    action = animation.action = bpy.data.actions.new("compat")
+    assert list(compat.action_fcurves(animation)) == []  # an empty action
+    if compat.SLOTTED_ACTIONS:  # no slot, layer or strip made by reading
+        assert animation.action_slot is None
+        assert (len(action.slots), len(action.layers)) == (0, 0)
+    compat.new_fcurve(animation, PATH, GROUP)
+    assert [c.data_path for c in compat.action_fcurves(animation)] == [PATH]
 
 
 def test_strips_on_this_blender():
     scene = bpy.context.scene
     editor = scene.sequence_editor_create()
     try:
-        strip = compat.strips(editor).new_effect("compat", "COLOR", 1, 1, frame_end=10)
+        # 5.0 gives new_effect() a length where it had frame_end (both keyword-only)
+        parameters = compat.strips(editor).bl_rna.functions["new_effect"].parameters
+        end = {"length": 9} if "length" in parameters else {"frame_end": 10}
+        strip = compat.strips(editor).new_effect("compat", "COLOR", 1, 1, **end)
+        assert (strip.frame_final_start, strip.frame_final_end) == (1, 10)
         assert isinstance(strip, compat.Strip)
         assert [s.name for s in compat.strips(editor)] == ["compat"]
-        if BEFORE_4_4:
+        # strips from 4.4 (sequences deprecated in 4.4 and 4.5, gone in 5.0), else sequences
+        if hasattr(editor, "strips"):
+            assert compat.strips(editor) == editor.strips
+        else:
             assert compat.strips(editor) == editor.sequences
     finally:
         scene.sequence_editor_clear()
@@ -148,6 +192,16 @@ def test_slotted_actions_path(monkeypatch):
     assert second.group is other.group is bag.groups[0]
 
 
+def test_slotted_actions_read_without_creating(monkeypatch):
+    monkeypatch.setattr(compat, "SLOTTED_ACTIONS", True)
+    animation = slotted_animation()
+    assert list(compat.action_fcurves(animation)) == []
+    assert animation.action_slot is None and not animation.action.slots
+    assert not animation.action.layers
+    first = compat.new_fcurve(animation, PATH, GROUP)
+    assert list(compat.action_fcurves(animation)) == [first]
+
+
 def test_slotted_actions_keep_the_assigned_slot(monkeypatch):
     monkeypatch.setattr(compat, "SLOTTED_ACTIONS", True)
     animation = slotted_animation()
@@ -156,3 +210,20 @@ def test_slotted_actions_keep_the_assigned_slot(monkeypatch):
     assert [s.name for s in animation.action.slots] == ["Mine"]
     bag = animation.action.layers[0].strips[0].channelbag(animation.action_slot)
     assert bag.fcurves.find(PATH) is not None
+
+
+def test_the_supported_versions(monkeypatch):
+    """3.4 (Debian 12's) and 4.2 LTS and later; any other version is named in one line."""
+    for version, ok in (((3, 3, 9), False), ((3, 4, 1), True), ((3, 6, 5), False),
+                        ((4, 1, 1), False), ((4, 2, 0), True), ((4, 5, 15), True),
+                        ((5, 0, 1), True)):
+        monkeypatch.setattr(compat, "bpy", SimpleNamespace(app=SimpleNamespace(version=version)))
+        got = compat.unsupported()
+        assert (got is None) is ok, version
+        if not ok:
+            assert got == ("MPEG-4 Face needs Blender 3.4 (Debian 12) or 4.2 LTS and later; "
+                           "this is " + ".".join(map(str, version)))
+
+
+def test_the_label_font_size_is_read_in_every_blender():
+    assert compat.label_points(bpy.context.preferences) > 5

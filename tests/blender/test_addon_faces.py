@@ -88,6 +88,11 @@ def test_add_keys(head):
     assert (stretch.slider_min, stretch.slider_max) == (-1.0, 1.0)  # bidirectional
     assert {"fap3_open_jaw@1024", "viseme1_p_b_m", "expression1_joy@40"} <= set(blocks.keys())
     assert_kept(before, keys_of(obj))
+    # Every added key starts at 0, the face at rest (Blender 5.0 adds keys at 1).
+    added = ("fap3_open_jaw@512", "fap6_stretch_l_cornerlip@-300", "fap3_open_jaw@1024",
+             "viseme1_p_b_m", "expression1_joy@40")
+    assert {k.name: k.value for k in blocks if k.name not in ("Basis", "Smirk")} == dict.fromkeys(
+        added, 0.0)
     # A duplicate name is refused, and nothing changes.
     before = keys_of(obj)
     with pytest.raises(RuntimeError, match="already has a shape key fap3_open_jaw@512"):
@@ -268,6 +273,7 @@ def test_clone_onto_scaled_heads(head, progress):
         chin = fp_vertices["2.1"]
         for scale, target in targets.items():
             cloned = displacement(target, "fap3_open_jaw@512")
+            assert target.data.shape_keys.key_blocks["fap3_open_jaw@512"].value == 0.0
             assert np.allclose(cloned[chin],
                                scale * displacement(source, "fap3_open_jaw@512")[chin],
                                atol=1e-3), target.name

@@ -6,7 +6,6 @@ the build whose module is installed; nothing is built)."""
 
 import json
 import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -14,6 +13,11 @@ from pathlib import Path
 import pytest
 
 bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_blender.py)")
+
+from conftest import needs_blender_executable  # noqa: E402
+
+pytestmark = needs_blender_executable(
+    ": the install script runs it for its Python and add-on folder, the check starts it")
 
 ROOT = Path(__file__).resolve().parent.parent.parent
 
@@ -36,7 +40,7 @@ def user_dirs(tmp_path):
     env.update(
         BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"),
         BLENDER_USER_CONFIG=str(tmp_path / "config"),
-        BLENDER=shutil.which("blender") or bpy.app.binary_path,
+        BLENDER=bpy.app.binary_path,  # this Blender, not whichever is on PATH
         # The build run_in_blender.py was given: build/release/python -> build/release.
         MPEG4FACE_BUILD_DIR=str(Path(os.environ["MPEG4FACE_PYTHONPATH"]).resolve().parent),
         MPEG4FACE_SKIP_BUILD="1",

@@ -17,7 +17,8 @@ from test_addon_stream import (  # noqa: E402,F401 - fixtures
 
 from mpeg4face_blender.logic import feature_points  # noqa: E402
 from mpeg4face_blender.logic import live as live_logic  # noqa: E402
-from mpeg4face_blender.scene import live_draw, live_preview, poses, stream_data  # noqa: E402
+from mpeg4face_blender.scene import (  # noqa: E402
+    compat, live_draw, live_preview, poses, stream_data)
 from mpeg4face_blender.ui.operators import faces as operators_faces  # noqa: E402
 
 
@@ -146,7 +147,7 @@ def test_bake_keeps_the_eye_and_head_poses_live_shows(head, eye, tmp_path):
     assert bpy.ops.mpeg4face.import_fap_stream(filepath=str(path), preview="BAKE") == {
         "FINISHED"}
     for obj in (head, eye):
-        curves = {c.data_path for c in obj.animation_data.action.fcurves
+        curves = {c.data_path for c in compat.action_fcurves(obj.animation_data)
                   if any(1 <= p.co.x <= 4 for p in c.keyframe_points)}
         assert {"location", "rotation_euler", "scale"} <= curves, (obj.name, curves)
     for frame in range(1, 5):
@@ -163,3 +164,33 @@ def test_a_file_saved_while_drawing_shows_its_head_after_loading(head):
     live_draw.hide(head)
     live_preview._clean_after_load()  # noqa: SLF001 - the load_post handler
     assert not head.modifiers and live_draw.HIDE_GROUP not in bpy.data.node_groups
+
+
+def test_a_preview_that_cannot_draw_writes_keys_and_says_so_once(head, eye, tmp_path, monkeypatch,
+                                                                 capsys):
+    """Where no shader can be made (no GPU, a Blender refusing it), the preview falls back
+    to the live shape key and says why, once a session."""
+    monkeypatch.setattr(live_draw, "cannot_draw", lambda: "SystemError: no GPU here")
+    monkeypatch.setattr(live_preview, "_cannot_draw_said", False)
+    path = write_stream(tmp_path / "eye.fap", {3: [0, 256, 400], 23: [0, 20000, -12000]})
+    stream = mpeg4face.read_fap_stream(path)
+    keys = stream_data.grammar_keys(head)
+    warnings = live_preview.start_live(head, bpy.context.scene, keys, stream, 1, draw=True)
+    state = live_preview._live[head.name]  # noqa: SLF001
+    assert not state.draw and all(o.drawn is None for o in state.objects)
+    assert warnings[0] == ("MPEG-4: the live preview writes shape keys, as it cannot draw the "
+                           "face here (SystemError: no GPU here)")
+    assert capsys.readouterr().out.count("cannot draw") == 1
+    assert live_draw.HIDE_MODIFIER not in head.modifiers
+    basis = live_coords(head).copy()
+    bpy.context.scene.frame_set(3)
+    assert not np.allclose(live_coords(head), basis)  # the live key holds the frame
+    again = live_preview.start_live(head, bpy.context.scene, keys, stream, 1, draw=True)
+    assert not any("cannot draw" in w for w in again)
+    live_preview.stop_live(head)
+
+
+def test_background_mode_makes_no_shader():
+    """Blender 3.4 crashes making a shader in -b: the preview never tries there."""
+    assert live_draw.cannot_draw() is None
+    assert live_draw._registry.shader is None  # noqa: SLF001

@@ -14,6 +14,7 @@ from conftest import ADDON  # noqa: E402
 import mpeg4face_blender  # noqa: E402
 from mpeg4face_blender import native  # noqa: E402
 from mpeg4face_blender.logic import feature_points  # noqa: E402
+from mpeg4face_blender.scene import compat  # noqa: E402
 from mpeg4face_blender.ui import preferences, properties  # noqa: E402
 
 
@@ -64,3 +65,27 @@ def test_missing_native_module_registers_preferences_only(addon_disabled, monkey
     finally:
         mpeg4face_blender.unregister()
     assert not any(registered().values())
+
+
+def test_an_unsupported_blender_gets_one_line(addon_disabled, monkeypatch, capsys):
+    """Enabling the add-on in a Blender it does not support registers the preferences only,
+    which show the line that is also printed, and no traceback."""
+    line = "MPEG-4 Face needs Blender 3.4 (Debian 12) or 4.2 LTS and later; this is 3.6.5"
+    monkeypatch.setattr(compat, "unsupported", lambda: line)
+    mpeg4face_blender.register()
+    try:
+        assert preferences.MPEG4FACE_AP_preferences.is_registered
+        assert not hasattr(bpy.types, "MPEG4FACE_OT_assign_feature_point")
+        assert preferences.unsupported == line
+        assert capsys.readouterr().err.strip() == line
+    finally:
+        mpeg4face_blender.unregister()
+
+
+def test_streams_dropped_on_the_viewport_are_imported():
+    """A FileHandler (Blender 4.1 and later) imports a dropped .fap or .fba."""
+    fh = getattr(bpy.types, "MPEG4FACE_FH_fap_stream", None)
+    assert (fh is not None) is compat.FILE_HANDLERS
+    if fh is not None:
+        assert fh.bl_import_operator == "mpeg4face.import_fap_stream"
+        assert fh.bl_file_extensions == ".fap;.fba"

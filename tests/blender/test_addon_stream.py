@@ -42,6 +42,7 @@ def add_key(obj, name, moved=JAW, by=DROP):
     if obj.data.shape_keys is None:
         obj.shape_key_add(name="Basis")
     key = obj.shape_key_add(name=name, from_mix=False)
+    key.value = 0.0  # the head at rest (5.0 adds a key at 1, earlier Blenders at 0)
     co = coords(key)
     co[moved] += by
     key.data.foreach_set("co", co.astype(np.float32).ravel())

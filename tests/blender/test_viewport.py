@@ -9,7 +9,6 @@ guide's pictures in docs/images come from there). Run through run_in_blender.py.
 
 import json
 import os
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -17,15 +16,18 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="runs inside Blender only (see run_in_blender.py)")
 
+from conftest import needs_blender_executable  # noqa: E402
+
 SCRIPT = Path(__file__).resolve().parent / "viewport" / "screenshots.py"
 
 
+@needs_blender_executable(" in a window under Xvfb")
 def test_previewed_stream_moves_the_mouth_in_the_viewport(tmp_path):
     out = Path(os.environ.get("MPEG4FACE_SCREENSHOTS") or tmp_path)
     out.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, MPEG4FACE_SCREENSHOT_DIR=str(out))
     command = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24",
-               shutil.which("blender") or bpy.app.binary_path, "--factory-startup",
+               bpy.app.binary_path, "--factory-startup",
                "--enable-event-simulate", "--python", str(SCRIPT)]
     run = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]

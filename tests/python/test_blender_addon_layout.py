@@ -78,3 +78,30 @@ def test_the_check_fails_on_a_module_that_imports_bpy(tmp_path):
     assert run.returncode != 0
     assert "bpy imported by a module that must be bpy-free" in run.stderr
     assert import_alone(tmp_path, "mpeg4face_blender.logic.stream").returncode == 0
+
+
+VERSION_PATTERNS = ("bpy.app.version", "app.version_string", "app.version_file")
+
+
+def version_checks(root: Path) -> list[str]:
+    """Lines under root that read Blender's version, as 'path:line: text'."""
+    found = []
+    for path in sorted(root.rglob("*.py")):
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if any(p in line for p in VERSION_PATTERNS):
+                found.append(f"{path}:{number}: {line.strip()}")
+    return found
+
+
+def test_only_the_compat_module_reads_blenders_version(tmp_path):
+    """Everything that differs between Blender versions goes through scene/compat.py
+    (docs/blender.md): no other module of the add-on, nor a Blender test, reads the version.
+    The test runner may name the Blender it runs in."""
+    allowed = {ADDONS / "mpeg4face_blender" / "scene" / "compat.py",
+               ADDONS.parent / "tests" / "blender" / "run_in_blender.py"}
+    found = [line for root in (ADDONS, ADDONS.parent / "tests" / "blender")
+             for line in version_checks(root) if Path(line.split(":")[0]) not in allowed]
+    assert found == []
+    # The search sees a version check where there is one.
+    (tmp_path / "module.py").write_text("if bpy.app.version >= (4, 2, 0):\n    pass\n")
+    assert version_checks(tmp_path) == [f"{tmp_path / 'module.py'}:1: if bpy.app.version >= (4, 2, 0):"]

@@ -12,5 +12,6 @@ samples' scripts and the tests in Blender share one way of reading a head.
   remembered on a head, the scene's frame rate
 - live_preview: the live preview's state and frame-change handlers
 - live_draw: the live preview drawn with the gpu module
-- compat: what differs between Blender 3.x and 4.x
+- compat: what differs between Blender versions (3.4, 4.2 LTS and later, 5.0), and which
+  ones the add-on supports
 """

@@ -124,7 +124,7 @@ def _key(obj: bpy.types.Object, bases: list[Matrix], start: int) -> None:
         rotation = "rotation_quaternion"
     paths = ("location", rotation, "scale")
     animation = obj.animation_data
-    if animation is not None and animation.action is not None:
+    if animation is not None:
         for curve in compat.action_fcurves(animation):
             if curve.data_path in paths:
                 for point in [p for p in curve.keyframe_points if start <= p.co.x <= end]:

@@ -9,7 +9,8 @@ normals (the core's vertex_normals), both placed in the object's frame by the co
 (FatEvaluator.object_coordinates), and the normals' turn (logic/live.py).
 
 Blender has no GPU context in background mode (-b): there the buffers are filled (the
-per-frame work is measurable and testable) and nothing is uploaded or drawn."""
+per-frame work is measurable and testable) and nothing is uploaded or drawn. Where the
+shader cannot be made (cannot_draw), the live preview writes the live keys instead."""
 
 from __future__ import annotations
 
@@ -20,42 +21,38 @@ import mpeg4face
 import numpy as np
 
 from ..logic import live as live_logic
+from . import compat
 
 # The modifier that hides a drawn object in the viewport, and its node group.
 HIDE_MODIFIER = HIDE_GROUP = "MPEG-4 live (drawn)"
 
+# The shader in create-info style (gpu.shader.create_from_info; 3.4 has it too): the
+# uniforms are push constants (at most 128 bytes everywhere: 116 here), the vertex shader
+# hands the fragment shader the object-space position, the view-space normal and the
+# colour. The mat3 normal_to_view is the model-view matrix's inverse transpose.
+_PUSH_CONSTANTS = (("MAT4", "mvp"), ("MAT3", "normal_to_view"), ("FLOAT", "flat_shading"))
+_ATTRIBUTES = (("VEC3", "pos"), ("VEC3", "nor"), ("VEC4", "col"))
+_VARYINGS = (("VEC3", "v_pos"), ("VEC3", "v_nor"), ("VEC4", "v_col"))
+
 _VERTEX = """
-uniform mat4 mvp;
-uniform mat4 model_view;
-uniform mat4 normal_to_view;
-in vec3 pos;
-in vec3 nor;
-in vec4 col;
-out vec3 v_pos;
-out vec3 v_nor;
-out vec4 v_col;
 void main()
 {
   gl_Position = mvp * vec4(pos, 1.0);
-  v_pos = (model_view * vec4(pos, 1.0)).xyz;
-  v_nor = mat3(normal_to_view) * nor;
+  v_pos = pos;
+  v_nor = normal_to_view * nor;
   v_col = col;
 }
 """
 
 # A key light from the upper left and a fill from the right, in view space, like the Solid
 # mode's studio light; the material colour is linear, as the viewport's colour management
-# expects (it turns the result into the display's). A mesh of flat faces
-# (use_smooth off) is shaded flat, from the face's own slope, as Blender shows it.
+# expects (it turns the result into the display's). A mesh of flat faces (use_smooth off)
+# is shaded flat, from the face's own slope, as Blender shows it: the cross product of the
+# object-space position's screen derivatives, turned into view space as a normal is.
 _FRAGMENT = """
-uniform float flat_shading;
-in vec3 v_pos;
-in vec3 v_nor;
-in vec4 v_col;
-out vec4 fragColor;
 void main()
 {
-  vec3 n = flat_shading > 0.5 ? cross(dFdx(v_pos), dFdy(v_pos)) : v_nor;
+  vec3 n = flat_shading > 0.5 ? normal_to_view * cross(dFdx(v_pos), dFdy(v_pos)) : v_nor;
   n = normalize(n);
   if (n.z < 0.0) n = -n;
   float key = max(dot(n, normalize(vec3(-0.45, 0.55, 0.7))), 0.0);
@@ -110,6 +107,7 @@ class _Registry:
     faces: dict[str, list[DrawMesh]] = field(default_factory=dict)
     handler: object | None = None
     shader: object | None = None
+    cannot_draw: str | None = None  # why the shader could not be made, once tried
 
 
 _registry = _Registry()
@@ -149,9 +147,7 @@ def draw_mesh(obj: bpy.types.Object) -> DrawMesh:
 def _empty_group() -> bpy.types.GeometryNodeTree:
     group = bpy.data.node_groups.get(HIDE_GROUP)
     if group is None:
-        group = bpy.data.node_groups.new(HIDE_GROUP, "GeometryNodeTree")
-        group.inputs.new("NodeSocketGeometry", "Geometry")
-        group.outputs.new("NodeSocketGeometry", "Geometry")
+        group = compat.new_modifier_node_group(HIDE_GROUP)
         group.nodes.new("NodeGroupInput")
         group.nodes.new("NodeGroupOutput")  # left unlinked: no geometry
     return group
@@ -219,11 +215,42 @@ def tag_redraw() -> None:
                 area.tag_redraw()
 
 
-def _shader():
+def cannot_draw() -> str | None:
+    """Why this Blender cannot draw the live preview (its shader cannot be made: no GPU
+    context, a backend refusing it), the reason given by the first try; None when it can
+    (the shader is made) and in background mode, where nothing is drawn (the buffers are
+    filled all the same) and nothing is tried: create_from_info crashes 3.4 there."""
+    if bpy.app.background:
+        return None
+    if _registry.shader is None and _registry.cannot_draw is None:
+        try:
+            _registry.shader = _new_shader()
+        except Exception as error:  # noqa: BLE001 - any failure means: write shape keys
+            _registry.cannot_draw = f"{type(error).__name__}: {error}"
+    return _registry.cannot_draw
+
+
+def _new_shader():
     import gpu
 
+    varyings = gpu.types.GPUStageInterfaceInfo("mpeg4face_live")
+    for kind, name in _VARYINGS:
+        varyings.smooth(kind, name)
+    info = gpu.types.GPUShaderCreateInfo()
+    for kind, name in _PUSH_CONSTANTS:
+        info.push_constant(kind, name)
+    for slot, (kind, name) in enumerate(_ATTRIBUTES):
+        info.vertex_in(slot, kind, name)
+    info.vertex_out(varyings)
+    info.fragment_out(0, "VEC4", "fragColor")
+    info.vertex_source(_VERTEX)
+    info.fragment_source(_FRAGMENT)
+    return gpu.shader.create_from_info(info)
+
+
+def _shader():
     if _registry.shader is None:
-        _registry.shader = gpu.types.GPUShader(_VERTEX, _FRAGMENT)
+        _registry.shader = _new_shader()
     return _registry.shader
 
 
@@ -267,9 +294,9 @@ def _draw() -> None:
             model_view = region.view_matrix @ obj.matrix_world
             shader.bind()
             shader.uniform_float("mvp", region.window_matrix @ model_view)
-            shader.uniform_float("model_view", model_view)
             shader.uniform_float("flat_shading", 1.0 if mesh.flat else 0.0)
-            shader.uniform_float("normal_to_view", model_view.inverted_safe().transposed())
+            shader.uniform_float("normal_to_view",
+                                 model_view.to_3x3().inverted_safe().transposed())
             _batch(mesh).draw(shader)
     gpu.state.depth_test_set("NONE")
     gpu.state.depth_mask_set(False)
@@ -279,3 +306,4 @@ def clear() -> None:
     for head in list(_registry.faces):
         remove_face(head)
     _registry.shader = None
+    _registry.cannot_draw = None

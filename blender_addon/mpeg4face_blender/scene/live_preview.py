@@ -53,6 +53,7 @@ class LiveState:
 
 
 _live: dict[str, LiveState] = {}  # head object name -> state
+_cannot_draw_said = False  # the reason live_draw cannot draw is said once a session
 
 
 def is_live(obj: bpy.types.Object) -> bool:
@@ -92,14 +93,25 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
     so the Basis, the other keys and the objects' matrices (which the pose keyframes
     drive) are never changed. `draw` (default: unless Blender runs in the background) draws
     the face with the gpu module (live_draw), the objects hidden in the viewport, and
-    writes the live keys only for rendering; else every frame is written into the live
-    keys. Returns generate_face's warnings; raises mpeg4face.Error for a face it refuses,
-    ValueError for objects sharing a mesh."""
+    writes the live keys only for rendering; else, and where live_draw cannot draw, every
+    frame is written into the live keys. Returns generate_face's warnings, after (the
+    first time only) why the face cannot be drawn; raises mpeg4face.Error for a face it
+    refuses, ValueError for objects sharing a mesh."""
+    global _cannot_draw_said
     stop_live(obj)
     objects = [obj, *poses.parts(obj)]
     _refuse_shared_meshes(objects)
     _, generated = stream_face(obj, scene, keys, stream)
     draw = not bpy.app.background if draw is None else draw
+    warnings = []
+    reason = live_draw.cannot_draw() if draw else None
+    if reason is not None:
+        draw = False
+        if not _cannot_draw_said:
+            _cannot_draw_said = True
+            warnings.append("MPEG-4: the live preview writes shape keys, as it cannot draw "
+                            f"the face here ({reason})")
+            print(warnings[-1])
     drawn = live_draw.add_face(obj.name, objects) if draw else [None] * len(objects)
     live_objects = []
     for index, o in enumerate(objects):
@@ -118,7 +130,7 @@ def start_live(obj: bpy.types.Object, scene: bpy.types.Scene, keys: stream_logic
         if handler not in handlers():
             handlers().append(handler)
     _show(state, scene)
-    return list(generated["warnings"])
+    return warnings + list(generated["warnings"])
 
 
 def _refuse_shared_meshes(objects: list[bpy.types.Object]) -> None:

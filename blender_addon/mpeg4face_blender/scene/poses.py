@@ -30,7 +30,7 @@ from mathutils import Matrix
 
 from ..logic import feature_points, shape_keys
 from ..logic import rig as rig_logic
-from . import mesh_data
+from . import compat, mesh_data
 
 NEUTRAL_MARKER = "neutral"
 # Blender's Z-up axes to the standard's Y-up ones, (x, y, z) -> (x, z, -y), as for vertices.
@@ -101,8 +101,7 @@ def rig_only(objects: Iterable[bpy.types.Object],
             paths = []
             if key.animation_data is not None:
                 paths = [d.data_path for d in key.animation_data.drivers]
-                if key.animation_data.action is not None:
-                    paths += [c.data_path for c in key.animation_data.action.fcurves]
+                paths += [c.data_path for c in compat.action_fcurves(key.animation_data)]
             animated = rig_logic.animated_key_names(paths)
             grammar = {n for n in key_names(obj) if shape_keys.parse(n) is not None}
             for block in key.key_blocks:

@@ -13,7 +13,7 @@ from types import ModuleType
 
 def feature_modules() -> list[ModuleType]:
     """The modules to register once mpeg4face imports, in registration order."""
-    from . import properties
+    from . import file_handlers, properties
     from ..scene import live_preview
     from .operators import (arkit, check, encode, export, faces, feature_points,
                             import_mesh2d, import_stream, live, rig, speech)
@@ -23,4 +23,4 @@ def feature_modules() -> list[ModuleType]:
 
     return [properties, feature_points, feature_points_panel, faces, arkit, faces_panel,
             export, live_preview, live, encode, speech, import_stream, stream_panel,
-            check, rig, import_mesh2d]
+            check, rig, import_mesh2d, file_handlers]

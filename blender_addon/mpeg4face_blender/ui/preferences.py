@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The add-on preferences: the native module's status (why it is missing and how to fix it)
-and settings of the panel."""
+"""The add-on preferences: the Blender versions needed on another, the native module's
+status (why it is missing and how to fix it) and settings of the panel."""
 
 import textwrap
 
@@ -14,6 +14,9 @@ from .. import native
 ADDON = __package__.rpartition(".")[0]
 # Set by register() in the add-on's __init__.py before this module registers.
 status = native.NativeStatus(None, "not loaded yet")
+# Set by register() to what the add-on needs, on a Blender it does not support (the
+# annotation a string: an old Blender's Python reads this module too).
+unsupported: "str | None" = None
 
 
 class MPEG4FACE_AP_preferences(bpy.types.AddonPreferences):
@@ -31,6 +34,9 @@ class MPEG4FACE_AP_preferences(bpy.types.AddonPreferences):
 
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
+        if unsupported is not None:
+            layout.label(text=unsupported, icon="ERROR")
+            return
         lines = native.problem(status)
         if not lines:
             layout.label(text=native.description(status), icon="CHECKMARK")

@@ -16,6 +16,8 @@ from collections.abc import Iterable
 import blf
 import bpy
 
+from ..scene import compat
+
 TABS = 20  # the sidebar's tab strip (px at UI scale 1)
 PANEL = 2 * 12  # a panel's margins left and right
 PADDING = 8  # a label's text inset
@@ -29,8 +31,7 @@ def scale(context: bpy.types.Context) -> float:
 
 def text_width(context: bpy.types.Context, text: str) -> float:
     """The width in pixels of `text` in the UI's label font."""
-    points = context.preferences.ui_styles[0].widget_label.points
-    blf.size(0, points * scale(context))
+    blf.size(0, compat.label_points(context.preferences) * scale(context))
     return blf.dimensions(0, text)[0]
 
 

@@ -223,9 +223,12 @@ def show_shape_key_panels(obj):
     bpy.context.view_layer.objects.active = obj
 
 
-def file_browser_screenshot(operator, name, filepath, panels=()):
-    """The operator's file browser, as the File menu opens it, with its options; closed
-    again afterwards. Returns the labels of `panels` (options sub-panels) that drew."""
+def file_browser_screenshot(operator, name, filepath, panels=(), path_given=True):
+    """The operator's file browser, as the File menu opens it, with its options, showing
+    `filepath`; closed again afterwards. Returns the labels of `panels` (options
+    sub-panels) that drew. path_given=False: the browser is opened without a path and then
+    sent to filepath, for the imports, whose invoke() with a path given (a file dropped on
+    the viewport) asks for the options in a dialog instead of opening the browser."""
     drawn = set()
     originals = {panel: panel.draw for panel in panels}
 
@@ -240,10 +243,19 @@ def file_browser_screenshot(operator, name, filepath, panels=()):
     windows = set(bpy.context.window_manager.windows[:])
     window, area, region = view3d()
     with bpy.context.temp_override(window=window, area=area, region=region):
-        operator("INVOKE_DEFAULT", filepath=str(filepath))
+        if path_given:
+            operator("INVOKE_DEFAULT", filepath=str(filepath))
+        else:
+            operator("INVOKE_DEFAULT")
     for _ in range(4):  # the window opens, then lists the folder
         yield
     browser = next(w for w in bpy.context.window_manager.windows if w not in windows)
+    if not path_given:
+        space = next(a for a in browser.screen.areas if a.type == "FILE_BROWSER").spaces[0]
+        space.params.directory = str(filepath.parent).encode()
+        space.params.filename = filepath.name
+        for _ in range(2):  # the folder listed again, the file name shown
+            yield
     with bpy.context.temp_override(window=browser):
         bpy.ops.screen.screenshot(filepath=str(OUT / name))
     for panel, draw in originals.items():
@@ -331,10 +343,10 @@ def steps():
         Path(tempfile.mkdtemp()) / "candide3.wrl",
         (export.MPEG4FACE_PT_export_head, export.MPEG4FACE_PT_export_tables))
     yield from file_browser_screenshot(bpy.ops.mpeg4face.import_fap_stream, "blender_import.png",
-                                       DATA / "xface-fap" / "joy.fap")
+                                       DATA / "xface-fap" / "joy.fap", path_given=False)
     yield from file_browser_screenshot(
         bpy.ops.mpeg4face.import_livelink_capture, "blender_import_capture.png",
-        DATA / "livelink-face" / "MySlate_3_Jason_Millers_iPhone.csv")
+        DATA / "livelink-face" / "MySlate_3_Jason_Millers_iPhone.csv", path_given=False)
     a, b = pixels(neutral), pixels(opened)
     live_a, live_b = pixels(live_neutral), pixels(live_opened)
     result = {

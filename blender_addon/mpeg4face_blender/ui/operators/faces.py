@@ -51,10 +51,13 @@ def basis_coords(obj: bpy.types.Object) -> np.ndarray:
 def add_key(obj: bpy.types.Object, name: str, coords: np.ndarray | None = None
             ) -> bpy.types.ShapeKey:
     """A new key relative to the Basis, a copy of the Basis (not of the mix, so the values
-    of the other keys do not leak in) or `coords`, with the grammar's slider range."""
+    of the other keys do not leak in) or `coords`, with the grammar's slider range, at
+    value 0: the face stays at rest (Blender 5.0 adds a key at 1, which would pile every
+    generated or cloned key onto the face)."""
     if obj.data.shape_keys is None:
         obj.shape_key_add(name="Basis", from_mix=False)
     key = obj.shape_key_add(name=name, from_mix=False)
+    key.value = 0.0
     key.relative_key = obj.data.shape_keys.reference_key
     if coords is not None:
         mesh_data.set_shape_key_coords(key, coords)

@@ -13,6 +13,8 @@ from bpy_extras.io_utils import ImportHelper
 
 import mpeg4face
 
+from ...scene import compat
+
 
 def plane_coords(frame: np.ndarray, scale: float) -> np.ndarray:
     """Pixel (x, y down) -> Blender (x, 0, -y) / scale."""
@@ -44,13 +46,12 @@ def build_plane(name: str, sequence: dict, image_path: str, scale: float,
     bpy.context.collection.objects.link(obj)
     if image_path:
         material = bpy.data.materials.new(name)
-        material.use_nodes = True
-        nodes = material.node_tree.nodes
-        texture = nodes.new("ShaderNodeTexImage")
+        tree = compat.material_node_tree(material)
+        texture = tree.nodes.new("ShaderNodeTexImage")
         texture.image = bpy.data.images.load(image_path, check_existing=True)
         texture.interpolation = "Linear"
-        material.node_tree.links.new(texture.outputs["Color"],
-                                     nodes["Principled BSDF"].inputs["Base Color"])
+        tree.links.new(texture.outputs["Color"],
+                       tree.nodes["Principled BSDF"].inputs["Base Color"])
         mesh.materials.append(material)
     obj.shape_key_add(name="Basis", from_mix=False)
     for f in range(1, len(frames)):

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""File > Import > FAP stream (.fap, .fba) and Live Link Face capture (.csv): a stream, or a
-capture converted to one by the core, onto the active head mesh, baked into shape-key
-animation or played live through the face's tables."""
+"""File > Import > FAP stream (.fap, .fba; or one dropped on the 3D viewport,
+ui/file_handlers.py) and Live Link Face capture (.csv): a stream, or a capture converted to
+one by the core, onto the active head mesh, baked into shape-key animation or played live
+through the face's tables."""
 
 import bpy
 from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
@@ -44,6 +45,14 @@ class _StreamImport(ImportHelper):
         ),
         default="BAKE",
     )
+
+    def invoke(self, context: bpy.types.Context, event: bpy.types.Event) -> set[str]:
+        # A file dropped on the viewport (ui/file_handlers.py) comes with its path set by
+        # the caller (a path remembered from the last import does not count): the options
+        # in a dialog instead of the file browser, as Blender's own importers do.
+        if self.properties.is_property_set("filepath", ghost=False):
+            return context.window_manager.invoke_props_dialog(self)
+        return super().invoke(context, event)
 
     def draw_frames(self, layout: bpy.types.UILayout, resampled: bool = True) -> None:
         # Each label above its widget: beside it, the file browser's narrow side panel
