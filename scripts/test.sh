@@ -11,7 +11,7 @@ root=$PWD
 jobs=$(nproc)
 export PYTHONDONTWRITEBYTECODE=1
 
-step() { printf '\n=== %s\n' "$*"; }
+step() { printf '\n=== %s (at %d min %02d s)\n' "$*" $((SECONDS / 60)) $((SECONDS % 60)); }
 
 # Totals over every runner, for the closing line. A failure stops the script before it.
 mkdir -p build/logs
@@ -51,12 +51,35 @@ PYTHONPATH="$root/build/release/python" \
   counted pytest.log /usr/bin/python3 -m pytest -q -p no:cacheprovider tests/python
 tally_pytest pytest.log
 
-step "Blender tests"
-# The viewport test keeps its screenshots there (docs/images has copies for the user guide).
-MPEG4FACE_PYTHONPATH="$root/build/release/python" MPEG4FACE_SCREENSHOTS="$root/build/screenshots" \
-  counted blender.log \
-  blender -b --factory-startup --python-exit-code 1 --python tests/blender/run_in_blender.py
-tally_pytest blender.log
+# The same suite in every Blender this machine runs: Debian's (the window and GPU tests too)
+# and Blender 4.5 LTS and 5.0 as Python modules (scripts/setup.sh's build/venv-bpy-*), where
+# tests needing the blender program or a window skip with the reason.
+blender_counts=()
+blender_suite() {  # blender_suite NAME COMMAND...: the suite in one Blender (log blender-NAME.log)
+  local log=blender-$1.log version
+  version=$(MPEG4FACE_PYTHONPATH="$root/build/release/python" "${@:2}" --version 2>/dev/null |
+    sed -n 's/^VERSION=//p')
+  step "Blender tests: Blender $version ($1)"
+  # The viewport test keeps its screenshots there (docs/images has copies for the user guide).
+  MPEG4FACE_PYTHONPATH="$root/build/release/python" MPEG4FACE_SCREENSHOTS="$root/build/screenshots" \
+    counted "$log" "${@:2}"
+  tally_pytest "$log"
+  blender_counts+=("Blender $version ($1): $(grep -E '[0-9]+ passed' "build/logs/$log" | tail -n 1 | tr -d '=')")
+}
+blender_suite debian blender -b --factory-startup --python-exit-code 1 --python tests/blender/run_in_blender.py --
+for venv in build/venv-bpy-*; do
+  blender_suite "${venv#build/venv-}" "$venv/bin/python" tests/blender/run_in_blender.py
+done
+printf '%s\n' "${blender_counts[@]}"
+
+step "packages: the wheel, the Blender extension and the add-on zip, installed as an artist would"
+# scripts/package.sh builds and checks dist/ (docs/packaging.md); the install test installs the
+# zips into temporary user folders of bpy 4.5, 5.0 and Debian's Blender, with clean
+# environments, and runs the workflow on the MakeHuman sample (samples/build.sh makes it).
+scripts/package.sh
+samples/build.sh
+counted install.log tests/install/run_install_test.sh
+passed=$((passed + $(grep -cE '^install-test: [^:]+: passed' build/logs/install.log)))
 
 step "C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 # One clang build serves the sanitised tests and the fuzz targets (everything instrumented
@@ -102,4 +125,5 @@ MPEG4FACE_NEW_USER_STEPS=demo counted new-user.log scripts/new_user_test.sh
 passed=$((passed + $(grep -c '^ok: ' build/logs/new-user.log)))
 
 step "all tests passed"
+printf '%s\n' "${blender_counts[@]}"
 echo "tests: $passed passed, 0 failed, $skipped skipped"
