@@ -118,6 +118,13 @@ got=$(env -i PATH=/usr/bin:/bin PYTHONNOUSERSITE=1 PYTHONDONTWRITEBYTECODE=1 \
 [ "$got" = "$version open_jaw" ] || fail "the module says '$got', expected '$version open_jaw'"
 done_step "$tag; ldd: only the wheel's libraries and the policy's; imports"
 
+stage_addon() {  # stage_addon DIR: a copy of the add-on's sources, without a source-tree lib/
+  mkdir -p "$1"
+  cp -r $addon/. "$1/"
+  rm -rf "$1/lib"
+  find "$1" -name __pycache__ -type d -prune -exec rm -rf {} +
+}
+
 begin extension
 # Blender's extension builder on a staging copy of the add-on, the wheel in its wheels/.
 listed=$($venv/bin/python -c 'import sys, tomllib
@@ -125,10 +132,7 @@ print(*tomllib.load(open(sys.argv[1], "rb"))["wheels"])' $addon/blender_manifest
 [ "$listed" = "./wheels/$wheel_name" ] || fail "$addon/blender_manifest.toml lists wheels = \
 [\"$listed\"] but the build made $wheel_name: set wheels = [\"./wheels/$wheel_name\"]"
 stage=$tmp/extension/mpeg4face
-mkdir -p "$stage"
-cp -r $addon/. "$stage/"
-rm -rf "$stage/lib"
-find "$stage" -name __pycache__ -type d -prune -exec rm -rf {} +
+stage_addon "$stage"
 mkdir "$stage/wheels"
 cp "$wheel" "$stage/wheels/"
 extension_zip=mpeg4face-$version-linux_x64.zip
@@ -145,10 +149,7 @@ begin addon-zip
 # For Blender 3.4 (Debian's: CPython 3.11, no extensions): the add-on with the wheel's
 # package and its libraries (mpeg4face.libs, found through the module's RPATH) in lib/.
 plain=$tmp/plain/mpeg4face_blender
-mkdir -p "$plain"
-cp -r $addon/. "$plain/"
-rm -rf "$plain/lib"
-find "$plain" -name __pycache__ -type d -prune -exec rm -rf {} +
+stage_addon "$plain"
 mkdir "$plain/lib"
 cp -r "$unpacked/mpeg4face" "$unpacked/mpeg4face.libs" "$plain/lib/"
 addon_zip=mpeg4face_blender-$version-blender3.4-linux_x64.zip
