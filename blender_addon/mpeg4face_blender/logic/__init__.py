@@ -13,6 +13,7 @@ bpy, bmesh, mathutils or any other Blender module, so plain pytest tests it
 - stream: FAP streams baked into curves, the live index, encoding summaries
 - live: the live preview's placement of evaluated coordinates
 - check: the motion check's read-out
+- face_import: an MPEG-4 face (.wrl) as the objects, FP_ groups and grammar keys to make
 
 The bpy layers import stream, live, rig, arkit and check as <name>_logic (their operator
 modules in ui/operators/ have the same concern names); feature_points and shape_keys by

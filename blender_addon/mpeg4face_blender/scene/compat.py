@@ -26,7 +26,7 @@ later 4.x, 5.0. No other module of the add-on reads bpy.app.version.
   before 5.0 only.
 - The UI's label font (the sidebar's wrapped labels): ThemeStyle.widget_label in 3.x, gone
   by 4.5, whose labels use the widget font; label_points().
-- Drag and drop (a .fap or .fba dropped on the 3D viewport): bpy.types.FileHandler from
+- Drag and drop (a .fap, .fba or .wrl dropped on the 3D viewport): bpy.types.FileHandler from
   4.1, so FILE_HANDLERS is False on 3.4 and ui/file_handlers.py registers nothing there.
 
 The rest of what the add-on calls is the same from 3.4 to 5.0: shape keys and their

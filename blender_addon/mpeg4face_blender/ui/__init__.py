@@ -16,11 +16,11 @@ def feature_modules() -> list[ModuleType]:
     from . import file_handlers, properties
     from ..scene import live_preview
     from .operators import (arkit, check, encode, export, faces, feature_points,
-                            import_mesh2d, import_stream, live, rig, speech)
+                            import_face, import_mesh2d, import_stream, live, rig, speech)
     from .panels import faces as faces_panel
     from .panels import feature_points as feature_points_panel
     from .panels import stream as stream_panel
 
     return [properties, feature_points, feature_points_panel, faces, arkit, faces_panel,
             export, live_preview, live, encode, speech, import_stream, stream_panel,
-            check, rig, import_mesh2d, file_handlers]
+            check, rig, import_face, import_mesh2d, file_handlers]
