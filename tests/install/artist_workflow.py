@@ -119,11 +119,23 @@ def keyed_range(head: bpy.types.Object) -> tuple[int, float, float]:
     return len(keyed), *keyed[0].range()
 
 
-def import_and_bake(head: bpy.types.Object, fba: Path) -> tuple[None, str]:
+def sampled_frames() -> np.ndarray:
+    scene = bpy.context.scene
+    return np.linspace(scene.frame_start, scene.frame_end, 12).round().astype(int)
+
+
+def import_and_bake(head: bpy.types.Object, fba: Path, out: Path) -> tuple[None, str]:
     result = bpy.ops.mpeg4face.import_fap_stream(filepath=str(fba), preview="BAKE")
     check(result == {"FINISHED"}, f"importing {fba.name} returned {result}")
     count, first, last = keyed_range(head)
     scene = bpy.context.scene
+    # The baked face at the sampled frames, which run_install_test.sh compares between the
+    # Blenders: the same stream must move the head the same in each.
+    baked = []
+    for frame in sampled_frames():
+        scene.frame_set(int(frame))
+        baked.append(evaluated(head))
+    np.save(out / "baked.npy", np.stack(baked))
     return None, f"{fba.name} baked: {count} shape keys animated over frames " \
                  f"{first:.0f}-{last:.0f}, scene {scene.frame_start}-{scene.frame_end} " \
                  f"at {scene.render.fps / scene.render.fps_base:g} fps"
@@ -136,7 +148,7 @@ def evaluated(head: bpy.types.Object) -> np.ndarray:
     return co.reshape(-1, 3)
 
 
-def live_preview(head: bpy.types.Object) -> tuple[None, str]:
+def live_preview(head: bpy.types.Object, out: Path) -> tuple[None, str]:
     # Without the baked animation and its last values, what moves is the live preview alone.
     head.data.shape_keys.animation_data_clear()
     for block in head.data.shape_keys.key_blocks:
@@ -146,13 +158,15 @@ def live_preview(head: bpy.types.Object) -> tuple[None, str]:
     neutral = evaluated(head)
     result = bpy.ops.mpeg4face.live_preview(action="START")
     check(result == {"FINISHED"}, f"starting the live preview returned {result}")
-    frames = np.linspace(scene.frame_start, scene.frame_end, 12).round().astype(int)
-    moved = []
+    frames = sampled_frames()
+    moved, live = [], []
     for frame in frames:
         scene.frame_set(int(frame))
         co = evaluated(head)
         check(np.isfinite(co).all(), f"frame {frame}: coordinates not finite")
         moved.append(float(np.abs(co - neutral).max()))
+        live.append(co)
+    np.save(out / "live.npy", np.stack(live))
     check(max(moved) > 0, f"the head does not move in frames {frames.tolist()}")
     result = bpy.ops.mpeg4face.live_preview(action="STOP")
     check(result == {"FINISHED"}, f"stopping the live preview returned {result}")
@@ -175,8 +189,8 @@ def main() -> None:
     run("generate tables", generate_tables)
     run("export .glb", export, bpy.ops.mpeg4face.export_gltf, args.out / "head.glb")
     run("export .wrl", export, bpy.ops.mpeg4face.export_vrml, args.out / "head.wrl")
-    run("import and bake .fba", import_and_bake, head, args.fba.resolve())
-    run("live preview", live_preview, head)
+    run("import and bake .fba", import_and_bake, head, args.fba.resolve(), args.out)
+    run("live preview", live_preview, head, args.out)
 
 
 main()
