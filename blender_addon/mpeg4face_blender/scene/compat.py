@@ -4,9 +4,11 @@ later 4.x, 5.0. No other module of the add-on reads bpy.app.version.
 
 - The versions supported: 3.4 and 4.2 and later. On another, unsupported() names what the
   add-on needs and its register() registers the preferences only, which say so.
-- The user add-on folder: scripts/addons in 3.x and 4.x. Blender 4.2's extensions live in
-  another folder and need a blender_manifest.toml; this add-on installs as a legacy add-on
-  (bl_info, no manifest), which 4.2 and later still load from scripts/addons.
+- How the add-on is installed: 4.2 and later install it as an extension (its
+  blender_manifest.toml; the zip of scripts/package.sh, loaded as bl_ext.<repository>.
+  mpeg4face, the native module from the wheel it lists); 3.4 as a legacy add-on (bl_info)
+  in scripts/addons, which scripts/install_blender_addon.sh finds with user_addon_dir()
+  and 4.2 and later still load from there.
 - The sequencer (the speech's sound strip): 4.4 renamed bpy.types.Sequence to Strip (the
   old name is gone) and SequenceEditor.sequences to strips (the old name stays, deprecated,
   until 5.0). Strip and strips() give the one this Blender has.
