@@ -13,19 +13,23 @@ namespace {
 using mpeg4face::cli::Command;
 
 constexpr std::array kCommands{
-    Command{"info", "describe a face model: meshes, morph targets, feature points, FAPU",
+    Command{"info", "describe a face model (meshes, feature points, FAPU) or a FAP stream",
             "mpeg4face info FILE [--feature-points CSV] [--json]\n"
-            "  FILE    .gltf, .glb, .obj, .wfm or .wrl\n"
+            "  FILE    a face model: .gltf, .glb, .obj, .wfm or .wrl\n"
+            "          or a stream: .fap (version, frames, rate, FAPs and their ranges) or\n"
+            "          .fba (also the coding mode, fap_quant, intra planes, bits and bits/s)\n"
             "  --feature-points CSV  bind feature points from CSV (fp,vertex | fp,mesh,vertex |\n"
-            "                        fp,x,y,z, or named columns)\n"
-            "  --json  print one JSON object (keys meshes, feature_points, fapu, warnings)\n",
+            "                        fp,x,y,z, or named columns); models only\n"
+            "  --json  print one JSON object (a model: keys meshes, feature_points, fapu,\n"
+            "          warnings; a stream: format, frames, frame_rate, faps, coding, ...)\n",
             mpeg4face::cli::runInfo},
     Command{"psnr", "compare a decoded .fap stream with its original: PSNR, per-FAP errors",
             "mpeg4face psnr ORIGINAL.fap DECODED.fap [--quality robust|tao] [--face F.wrl]\n"
             "               [--json]\n"
             "  PSNR as Tao et al. (1999) eq. (8) defines it (docs/fap-format.md), the robust\n"
             "  PSNR (docs/rate-distortion.md), and each FAP's range, largest and RMS error;\n"
-            "  both streams need the same frames\n"
+            "  both streams need the same frames (a decoded stream's empty frames before the\n"
+            "  original's first frame number, the bitstream's frame 0, are skipped)\n"
             "  --quality Q  robust (default) or tao: the PSNR printed first\n"
             "  --face F     a face (.wrl with tables): also the motion error at its feature\n"
             "               points, RMS and largest, in % of ES0\n"

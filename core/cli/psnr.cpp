@@ -71,7 +71,9 @@ nlohmann::ordered_json decibelsJson(const std::optional<double>& db) {
 int runPsnr(const std::vector<std::string>& rawArgs) {
   const PsnrArgs args = parseArgs(rawArgs);
   const FapStream original = readFapFile(args.original);
-  const FapStream decoded = readFapFile(args.decoded);
+  // A decoded stream that starts at frame 0 where the original starts later (the bitstream's
+  // empty frame 0) is compared from the original's first frame.
+  const FapStream decoded = alignByFrameNumber(original, readFapFile(args.decoded));
   FapComparison c;
   try {
     c = compareFapStreams(original, decoded);

@@ -94,7 +94,8 @@ std::vector<FapFrame> withoutZeroFaps(std::span<const FapFrame> frames) {
 }
 
 // The planes up to fba_object_end_code and the end of the data.
-void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream);
+void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream,
+                  FbaStreamInfo& info);
 
 // `code` here, byte-aligned as 14496-2 places start codes after headers and user data, or
 // after next_start_code() stuffing as this codec writes them; consumed if so.
@@ -213,8 +214,19 @@ FbaEncoding encodeFba(const FapStream& stream, const FbaEncodeOptions& options) 
 
 FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
                     const FbaDecodeLimits& limits) {
+  FbaStreamInfo info;
+  return decodeFba(bytes, source, limits, info);
+}
+
+FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
+                    const FbaDecodeLimits& limits, FbaStreamInfo& info) {
+  info = FbaStreamInfo{};
+  info.bits = uint64_t{bytes.size()} * 8;
   BitReader in(bytes, std::string(source));
-  if (acceptStartCode(in, fba::kVisualObjectSequenceStartCode)) readVisualObjectHeaders(in);
+  if (acceptStartCode(in, fba::kVisualObjectSequenceStartCode)) {
+    info.visualObjectSequence = true;
+    readVisualObjectHeaders(in);
+  }
   const uint64_t objectStart = in.position();
   // The PCA mode's own start code and header (docs/pca-mode.md): the planes then carry KLT
   // components. After fba_object_start_code, user data is skipped as 14496-2 says.
@@ -222,6 +234,9 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
   if (acceptStartCode(in, fba::kPcaObjectStartCode)) {
     in.readStartCode(fba::kPcaHeaderStartCode, "pca_header_start_code");
     pca = fba::readPcaHeader(in);
+    info.pca = true;
+    info.pcaBasisBits = pca->basisBits;
+    for (const fba::PcaHeaderGroup& g : pca->groups) info.pcaComponents += g.components;
   } else if (acceptStartCode(in, kFbaObjectStartCode)) {
     skipUserData(in);
   } else {
@@ -232,12 +247,20 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
   }
   FapStream stream;
   try {
-    decodePlanes(in, limits, stream);
+    decodePlanes(in, limits, stream, info);
   } catch (const Error& e) {
     // Past the object's start, a syntax error is almost always damage (a flipped bit makes
     // the arithmetic decoders and the headers after it read nonsense); limits are not.
     if (e.reason().find("FbaDecodeLimits") != std::string::npos) throw;
-    throw Error(e.file(), 0, e.field(), "the stream is damaged " + e.reason());
+    // A plane header whose fba_paramset_mask reads 2 or 3 may be a stream with body
+    // animation as well as damage; every other error (a mask of 0 included) is damage.
+    const bool bodyAnimation =
+        e.field() == "fba_paramset_mask" &&
+        e.reason().find(fba::kBodyAnimationNotSupported) != std::string::npos;
+    throw Error(e.file(), 0, e.field(),
+                (bodyAnimation ? "the stream carries body animation or is damaged "
+                               : "the stream is damaged ") +
+                    e.reason());
   }
   if (pca) stream.frames = fba::reconstructPca(*pca, stream.frames, source);
   return stream;
@@ -245,7 +268,8 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
 
 namespace {
 
-void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream) {
+void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream,
+                  FbaStreamInfo& info) {
   std::optional<double> rate;
   std::optional<int> codingType;  // of the last intra plane
   fba::PredictiveDecoder predictive;
@@ -284,6 +308,14 @@ void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& strea
       }
       const fba::IntraSettings settings = fba::readIntraSettings(in);
       codingType = settings.codingType;
+      ++info.intraPlanes;
+      ++(settings.codingType == fba::kCodingTypeDct ? info.dctPlanes : info.predictivePlanes);
+      info.intraFrameIndices.push_back(stream.frames.size());
+      const auto q = std::lower_bound(info.fapQuants.begin(), info.fapQuants.end(),
+                                      settings.fapQuant);
+      if (q == info.fapQuants.end() || *q != settings.fapQuant) {
+        info.fapQuants.insert(q, settings.fapQuant);
+      }
       switch (settings.codingType) {
         case fba::kCodingTypePredictive:
           predictive.decodeIntra(in, settings, newFrame());
@@ -306,6 +338,7 @@ void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& strea
           break;
       }
     }
+    ++info.planes;
     number = int64_t{stream.frames.back().number} + 1 + header.framesToSkip;
     if (number > limits.maxFrameNumber) {
       in.fail("number_of_frames_to_skip",
@@ -322,9 +355,14 @@ void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& strea
 }  // namespace
 
 FapStream readFbaFile(const std::filesystem::path& path) {
+  FbaStreamInfo info;
+  return readFbaFile(path, info);
+}
+
+FapStream readFbaFile(const std::filesystem::path& path, FbaStreamInfo& info) {
   const std::string bytes = readFile(path);
-  FapStream stream =
-      decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, path.string());
+  FapStream stream = decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()},
+                               path.string(), {}, info);
   stream.name = path.stem().string();
   return stream;
 }

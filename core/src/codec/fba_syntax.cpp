@@ -70,10 +70,17 @@ PlaneHeader readPlaneHeader(BitReader& in, int maxSkip) {
   PlaneHeader header;
   header.isIntra = in.readBit("is_intra_frame");
   const uint32_t paramset = in.readBits(2, "fba_paramset_mask");
+  if (paramset == 0) {
+    // No FAPs and no BAPs: no encoder writes an empty plane, so the header is not where the
+    // reader stands (damage, not body animation).
+    in.failAt(in.position() - 2, "fba_paramset_mask",
+              "is 0 (no parameters at all) where a plane header has 1 (FAPs)");
+  }
   if (paramset != kParamsetFap) {
     in.failAt(in.position() - 2, "fba_paramset_mask",
               "is " + std::to_string(paramset) +
-                  "; only FAP planes (1) are supported (2 and 3 carry body animation)");
+                  (paramset == 2 ? " (BAPs only)" : " (FAPs and BAPs)") + ": " +
+                  std::string(kBodyAnimationNotSupported) + ", only FAP planes (1)");
   }
   if (header.isIntra) {
     if (in.readBit("is_frame_rate")) {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string_view>
 
 #include "codec/bit_io.hpp"
 #include "mpeg4face/codec/fba_codec.hpp"
@@ -30,6 +31,9 @@ inline constexpr int kCodingTypePredictive = 0;
 inline constexpr int kCodingTypeDct = 1;
 // fba_paramset_mask: bit 0 FAPs, bit 1 BAPs (body animation, not supported).
 inline constexpr uint32_t kParamsetFap = 1;
+// In the error of a plane header whose fba_paramset_mask reads 2 or 3 (and only there), so
+// that decodeFba tells "body animation or damage" apart from plain damage.
+inline constexpr std::string_view kBodyAnimationNotSupported = "body animation is not supported";
 inline constexpr int kGroupCount = 10;
 
 // frame_rate(8), seconds(4), frequency_offset(1): (frame_rate + seconds / 16) frames per
@@ -57,7 +61,8 @@ struct PlaneHeader {
 };
 // fba_object_plane_header() without the optional start code (the caller writes that).
 void writePlaneHeader(BitWriter& out, const PlaneHeader& header);
-// Throws Error if the paramset is not FAPs only or framesToSkip exceeds maxSkip.
+// Throws Error if the paramset is not FAPs only (naming body animation only when it reads 2
+// or 3) or framesToSkip exceeds maxSkip.
 PlaneHeader readPlaneHeader(BitReader& in, int maxSkip);
 
 // The start of every intra plane's FAP data: fap_quant, the group masks, suggested_gender,

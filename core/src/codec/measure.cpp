@@ -122,6 +122,15 @@ FapComparison compareFapStreams(const FapStream& original, const FapStream& deco
   return out;
 }
 
+FapStream alignByFrameNumber(const FapStream& original, FapStream decoded) {
+  if (original.frames.empty()) return decoded;
+  const int first = original.frames.front().number;
+  const auto keep = std::find_if(decoded.frames.begin(), decoded.frames.end(),
+                                 [&](const FapFrame& f) { return f.number >= first || f.mask.any(); });
+  decoded.frames.erase(decoded.frames.begin(), keep);
+  return decoded;
+}
+
 double bitsPerFrame(double bits, std::size_t frameCount) {
   if (frameCount == 0) throw Error({}, 0, "frame count", "no frames to spread the bits over");
   return bits / static_cast<double>(frameCount);

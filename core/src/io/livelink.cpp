@@ -80,15 +80,60 @@ constexpr std::array<std::string_view, kLiveLinkChannelCount> kChannels{"EyeBlin
 
 constexpr std::array<double, 8> kTimecodeRates{24, 25, 30, 48, 50, 60, 100, 120};
 
-std::vector<std::string_view> splitCells(std::string_view line) {
+// The cells of a line split at `separator`, trimmed; an RFC 4180 quoted cell ("...", "" for a
+// quote inside) is its text between the quotes, separators included.
+std::vector<std::string_view> splitCells(std::string_view line, char separator = ',') {
   std::vector<std::string_view> cells;
   std::size_t start = 0;
   while (true) {
-    const std::size_t comma = line.find(',', start);
-    cells.push_back(text::trim(line.substr(start, comma - start)));
-    if (comma == std::string_view::npos) return cells;
-    start = comma + 1;
+    std::size_t end = line.find(separator, start);
+    std::string_view cell = text::trim(line.substr(start, end - start));
+    if (!cell.empty() && cell.front() == '"') {
+      const std::size_t open = line.find('"', start);
+      std::size_t close = open + 1;
+      while ((close = line.find('"', close)) != std::string_view::npos &&
+             close + 1 < line.size() && line[close + 1] == '"') {
+        close += 2;
+      }
+      if (close != std::string_view::npos) {
+        cell = line.substr(open + 1, close - open - 1);
+        end = line.find(separator, close + 1);
+      }
+    }
+    cells.push_back(cell);
+    if (end == std::string_view::npos) return cells;
+    start = end + 1;
   }
+}
+
+bool allDigits(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+// An integer part, as a decimal comma leaves it before the comma: [+-]digits or a timecode
+// hh:mm:ss:ff.
+bool integerPart(std::string_view s) {
+  if (!s.empty() && (s.front() == '-' || s.front() == '+')) s.remove_prefix(1);
+  const std::size_t colon = s.rfind(':');
+  if (colon != std::string_view::npos) s.remove_prefix(colon + 1);
+  return allDigits(s);
+}
+
+// "0,5" or "00:32:09:07,867": a number or timecode written with a decimal comma.
+bool hasDecimalComma(std::string_view cell) {
+  const std::size_t comma = cell.find(',');
+  return comma != std::string_view::npos && integerPart(cell.substr(0, comma)) &&
+         allDigits(cell.substr(comma + 1));
+}
+
+[[noreturn]] void failDecimalComma(const std::string& fileName, int line,
+                                   const std::string& field, std::string_view example,
+                                   const std::string& how = {}) {
+  throw Error(fileName, line, field,
+              how + "the values use a decimal comma (" + std::string(example) +
+                  "): Live Link Face writes a decimal point (0.5) and separates the cells "
+                  "with commas; re-export the CSV with a decimal point (e.g. from a "
+                  "spreadsheet set to an English locale)");
 }
 
 struct Timecode {
@@ -168,6 +213,26 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
       ignored.emplace_back(header[c]);
     }
   }
+  if (!timecodeColumn && header.size() == 1 && line.find(';') != std::string_view::npos) {
+    // Separated by semicolons, as a spreadsheet writes a CSV where the decimal separator is a
+    // comma: name the decimal comma in the first row if it has one.
+    const std::vector<std::string_view> names = splitCells(line, ';');
+    text::LineReader ahead = reader;
+    std::string_view next;
+    while (ahead.next(next) && text::trim(next).empty()) {
+    }
+    const std::vector<std::string_view> cells = splitCells(next, ';');
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      if (!hasDecimalComma(cells[c])) continue;
+      failDecimalComma(fileName, ahead.lineNumber(),
+                       "column " + std::to_string(c + 1) +
+                           (c < names.size() ? " (" + std::string(names[c]) + ")" : ""),
+                       cells[c], "the cells are separated by semicolons and ");
+    }
+    throw Error(fileName, headerLine, "header",
+                "the cells are separated by semicolons (;): Live Link Face separates them with "
+                "commas; re-export the CSV comma-separated");
+  }
   if (!timecodeColumn) {
     throw Error(fileName, headerLine, "Timecode",
                 "missing column: the header has no Timecode (is this a Live Link Face CSV?)");
@@ -198,6 +263,17 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
   while (reader.next(line)) {
     if (text::trim(line).empty()) continue;
     const std::vector<std::string_view> cells = splitCells(line);
+    if (cells.size() > header.size() && line.find('.') == std::string_view::npos) {
+      // More cells than the header and not one decimal point: unquoted decimal commas split
+      // each value in two. The example is the last value (its two cells).
+      const std::size_t n = cells.size();
+      if (integerPart(cells[n - 2]) && allDigits(cells[n - 1])) {
+        failDecimalComma(fileName, reader.lineNumber(), {},
+                         std::string(cells[n - 2]) + "," + std::string(cells[n - 1]),
+                         std::to_string(n) + " cells where the header has " +
+                             std::to_string(header.size()) + " and no decimal point: ");
+      }
+    }
     if (cells.size() != header.size()) {
       const std::size_t c = std::min(cells.size(), header.size());
       reader.fail(c < header.size() ? columnName(c) : "column " + std::to_string(c + 1),
@@ -213,6 +289,9 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
       if (channel == -1) {
         const std::optional<Timecode> t = parseTimecode(cells[c]);
         if (!t) {
+          if (hasDecimalComma(cells[c])) {
+            failDecimalComma(fileName, reader.lineNumber(), columnName(c), cells[c]);
+          }
           reader.fail(columnName(c),
                       "timecode hh:mm:ss:frame.fraction expected, found " + text::quote(cells[c]));
         }
@@ -221,6 +300,9 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
       }
       double value = 0;
       if (!text::tryParseDouble(cells[c], value)) {
+        if (hasDecimalComma(cells[c])) {
+          failDecimalComma(fileName, reader.lineNumber(), columnName(c), cells[c]);
+        }
         const std::string lower = lowerCase(cells[c]);
         const bool notFinite =
             lower.find("nan") != std::string::npos || lower.find("inf") != std::string::npos;

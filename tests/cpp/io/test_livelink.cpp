@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/io/files.hpp"
@@ -156,6 +157,113 @@ TEST(LiveLink, BadInputNamesLineAndColumn) {
   EXPECT_EQ(e.line(), 2);
   EXPECT_EQ(e.field(), "column 63 (RightEyeRoll)");
   EXPECT_NE(e.reason().find("62 cells where the header has 63"), std::string::npos) << e.what();
+}
+
+// The header and the first `rows` rows of the real capture, lines split into cells.
+std::vector<std::vector<std::string>> captureCells(int rows) {
+  const std::string text = mpeg4face::readFile(kCapture);
+  std::vector<std::vector<std::string>> lines;
+  std::size_t start = 0;
+  while (static_cast<int>(lines.size()) < rows + 1) {
+    const std::size_t end = text.find('\n', start);
+    std::string line = text.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::vector<std::string> cells;
+    for (std::size_t s = 0;;) {
+      const std::size_t comma = line.find(',', s);
+      cells.push_back(line.substr(s, comma - s));
+      if (comma == std::string::npos) break;
+      s = comma + 1;
+    }
+    lines.push_back(cells);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return lines;
+}
+
+// The cells joined by `separator`, a '.' in them made `point`, quoted (RFC 4180) when
+// `quote` says so for the cell.
+std::string csvText(const std::vector<std::vector<std::string>>& lines, char separator,
+                    char point, bool (*quote)(const std::string&, std::size_t line)) {
+  std::string out;
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    for (std::size_t c = 0; c < lines[l].size(); ++c) {
+      std::string cell = lines[l][c];
+      for (char& ch : cell) ch = ch == '.' ? point : ch;
+      if (c > 0) out += separator;
+      out += quote(cell, l) ? "\"" + cell + "\"" : cell;
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+bool never(const std::string&, std::size_t) { return false; }
+bool always(const std::string&, std::size_t) { return true; }
+// As a spreadsheet writes it: the header, and every cell holding a comma.
+bool whereNeeded(const std::string& cell, std::size_t line) {
+  return line == 0 || cell.find(',') != std::string::npos;
+}
+
+TEST(LiveLink, ADecimalCommaIsNamedInEachForm) {
+  const auto lines = captureCells(4);
+  ASSERT_EQ(lines.size(), 5u);
+  ASSERT_EQ(lines[0].size(), 63u);
+
+  // A correct CSV still reads, quoted or not.
+  for (const auto quote : {never, always}) {
+    const LiveLinkCapture c = parse(csvText(lines, ',', '.', quote));
+    EXPECT_EQ(c.frameCount(), 4);
+    EXPECT_NEAR(c.values(0, 0), 0.0491091609, 1e-12);
+    EXPECT_NEAR(c.times[0], 32 * 60 + 9 + 7.867 / 60, 1e-9);
+  }
+
+  const auto expectDecimalComma = [](const Error& e, const std::string& example) {
+    EXPECT_EQ(e.file(), "t.csv");
+    EXPECT_EQ(e.line(), 2) << e.what();
+    EXPECT_NE(e.reason().find("the values use a decimal comma (" + example + ")"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(e.reason().find("Live Link Face writes a decimal point"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("t.csv:2: "), std::string::npos) << e.what();
+  };
+
+  // Semicolon-separated: the first decimal comma of row 1 (the timecode's fraction).
+  Error e = parseError(csvText(lines, ';', ',', never));
+  expectDecimalComma(e, "00:32:09:07,867");
+  EXPECT_EQ(e.field(), "column 1 (Timecode)");
+  EXPECT_NE(e.reason().find("separated by semicolons"), std::string::npos) << e.what();
+
+  // Comma-separated, unquoted: every value split in two; the example is the last value.
+  const std::string last = lines[1].back();
+  std::string lastComma = last;
+  lastComma[lastComma.find('.')] = ',';
+  e = parseError(csvText(lines, ',', ',', never));
+  expectDecimalComma(e, lastComma);
+  EXPECT_NE(e.reason().find(" cells where the header has 63 and no decimal point"),
+            std::string::npos)
+      << e.what();
+
+  // RFC 4180: the cells with a comma quoted (the header too).
+  e = parseError(csvText(lines, ',', ',', whereNeeded));
+  expectDecimalComma(e, "00:32:09:07,867");
+  EXPECT_EQ(e.field(), "column 1 (Timecode)");
+  // The same with the timecode written with a decimal point: the first value is named.
+  auto pointTimecode = lines;
+  for (std::size_t l = 1; l < pointTimecode.size(); ++l) {
+    std::string& tc = pointTimecode[l][0];
+    tc = tc.substr(0, tc.find('.'));  // 00:32:09:07, no fraction
+  }
+  e = parseError(csvText(pointTimecode, ',', ',', whereNeeded));
+  expectDecimalComma(e, "0,0491091609");
+  EXPECT_EQ(e.field(), "column 3 (EyeBlinkLeft)");
+
+  // Semicolons without decimal commas: said at the header.
+  e = parseError(csvText(lines, ';', '.', never));
+  EXPECT_EQ(e.line(), 1);
+  EXPECT_NE(e.reason().find("separated by semicolons (;)"), std::string::npos) << e.what();
 }
 
 TEST(LiveLink, WriteReadRoundTrip) {

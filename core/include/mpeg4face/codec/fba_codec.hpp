@@ -105,4 +105,24 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source = {}
 // bitstream carries no name.
 FapStream readFbaFile(const std::filesystem::path& path);
 
+// What a bitstream's headers say besides its frames (`mpeg4face info`), filled in by the
+// decoders below as they read.
+struct FbaStreamInfo {
+  uint64_t bits = 0;                  // the whole stream
+  bool visualObjectSequence = false;  // visual_object_sequence and visual_object headers
+  bool pca = false;                   // the PCA mode's object (its components coded below)
+  int pcaComponents = 0;              // components over all groups of the PCA header
+  int pcaBasisBits = 0;
+  int planes = 0;
+  int intraPlanes = 0;
+  int predictivePlanes = 0;  // intra planes whose coding_type is 0 ...
+  int dctPlanes = 0;         // ... and 1 (the planes after one share its type)
+  // Index in FapStream::frames of each intra plane's first frame, in order.
+  std::vector<size_t> intraFrameIndices;
+  std::vector<int> fapQuants;  // the fap_quant values of the intra planes, ascending, distinct
+};
+FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
+                    const FbaDecodeLimits& limits, FbaStreamInfo& info);
+FapStream readFbaFile(const std::filesystem::path& path, FbaStreamInfo& info);
+
 }  // namespace mpeg4face

@@ -56,6 +56,14 @@ struct FapComparison {
 // mpeg4face::Error (field "frame rate" / "frame number") naming the first difference.
 FapComparison compareFapStreams(const FapStream& original, const FapStream& decoded);
 
+// `decoded` aligned with `original` by frame number for compareFapStreams: the frames at its
+// front that are numbered below the original's first frame and send nothing are dropped. The
+// FBA bitstream numbers its first plane 0, so a stream that starts at frame n > 0 decodes
+// with an empty frame 0 in front (docs/bitstream.md, "Frame numbers"); an empty frame is the
+// neutral face a decoder shows before the first frame anyway. Anything else is left for
+// compareFapStreams to report.
+FapStream alignByFrameNumber(const FapStream& original, FapStream decoded);
+
 // The comparison's PSNR by `quality`: robustPsnr or psnr.
 std::optional<double> psnrBy(const FapComparison& comparison, FapQuality quality);
 
