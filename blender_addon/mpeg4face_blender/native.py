@@ -47,6 +47,11 @@ def python_version() -> str:
     return ".".join(map(str, sys.version_info[:3]))
 
 
+def python_minor() -> str:
+    """This Python as wheels and Blender's releases tell them apart: "3.11"."""
+    return "%d.%d" % sys.version_info[:2]
+
+
 def expected_file_name() -> str:
     """The extension file this Python imports, e.g. _core.cpython-311-x86_64-linux-gnu.so."""
     return "_core" + importlib.machinery.EXTENSION_SUFFIXES[0]
@@ -106,7 +111,7 @@ def blender_platform() -> str:
 def needed_download() -> str:
     """What to install for this Blender, e.g. "mpeg4face-0.1.0-linux_x64.zip built for
     Blender 5.1+ (cp313)"."""
-    major_minor = "%d.%d" % sys.version_info[:2]
+    major_minor = python_minor()
     version = add_on_version() or "<version>"
     blender = BLENDER_OF_PYTHON.get(major_minor, f"CPython {major_minor}")
     tag = "cp%d%d" % sys.version_info[:2]
@@ -122,7 +127,7 @@ def summary(status: NativeStatus, lib_dir: Path = LIB_DIR, name: str = MODULE_NA
     loaded."""
     if status.ok:
         return ""
-    this = "%d.%d" % sys.version_info[:2]
+    this = python_minor()
     shipped = built_for(lib_dir, name)
     if shipped and this not in shipped:
         return f"{MODULE_NAME}: the native module is for CPython {', '.join(shipped)}; this " \

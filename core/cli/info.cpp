@@ -3,9 +3,7 @@
 // stream (.fap, .fba) before decoding or playing it.
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cstdio>
-#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -13,6 +11,7 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "paths.hpp"
 #include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/codec/measure.hpp"
 #include "mpeg4face/io/fap_file.hpp"
@@ -48,13 +47,6 @@ InfoArgs parseArgs(const std::vector<std::string>& args) {
   }
   if (out.file.empty()) throw UsageError("no FILE given");
   return out;
-}
-
-std::string lowerCaseExtension(const std::string& file) {
-  std::string ext = std::filesystem::path(file).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
 }
 
 // What every frame of a stream sends, gathered once for the text and the JSON.
@@ -136,7 +128,7 @@ int describeStream(const InfoArgs& args, bool fba) {
       c["mode"] = fbaModeName(info);
       c["fap_quant"] = info.fapQuants;
       c["planes"] = info.planes;
-      c["intra_planes"] = info.intraPlanes;
+      c["intra_planes"] = info.intraFrameIndices.size();
       c["intra_period"] = period ? nlohmann::json(*period) : nlohmann::json(nullptr);
       c["visual_object_sequence"] = info.visualObjectSequence;
       if (info.pca) {
@@ -183,7 +175,7 @@ int describeStream(const InfoArgs& args, bool fba) {
     std::string quants;
     for (int q : info.fapQuants) quants += (quants.empty() ? "" : ", ") + std::to_string(q);
     std::printf("fap_quant: %s\n", quants.empty() ? "-" : quants.c_str());
-    std::printf("planes: %d, %d intra", info.planes, info.intraPlanes);
+    std::printf("planes: %d, %zu intra", info.planes, info.intraFrameIndices.size());
     if (period) std::printf(" (intra period: at most %zu frames from one to the next)", *period);
     std::printf("\n");
     if (info.pca) {
@@ -227,7 +219,7 @@ int describeStream(const InfoArgs& args, bool fba) {
 
 int runInfo(const std::vector<std::string>& rawArgs) {
   const InfoArgs args = parseArgs(rawArgs);
-  const std::string ext = lowerCaseExtension(args.file);
+  const std::string ext = extensionOf(args.file);
   if (ext == ".fap" || ext == ".fba") return describeStream(args, ext == ".fba");
   FaceModel model = readModel(args.file);
   std::vector<std::string> warnings;

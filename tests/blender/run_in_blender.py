@@ -17,9 +17,13 @@ tests collected" counts as a failure.
 import os
 import sys
 
+# With PyPI's bpy, Blender starts at this import; inside Blender it is already there.
+import bpy
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 TESTS = os.path.dirname(HERE)
 ADDONS = os.path.join(os.path.dirname(TESTS), "blender_addon")  # mpeg4face_blender
+AS_MODULE = not bpy.app.binary_path  # Blender as a Python module has no executable
 
 
 def main() -> int:
@@ -39,13 +43,11 @@ def main() -> int:
         sys.path.append(dist)
     sys.dont_write_bytecode = True
 
-    import bpy  # noqa: F401 - with bpy as a module, Blender starts here
-
     # Inside Blender, pytest's arguments follow "--"; with bpy, they are the script's own.
     if "--" in sys.argv:
         extra = sys.argv[sys.argv.index("--") + 1:]
     else:
-        extra = sys.argv[1:] if os.path.basename(sys.argv[0]) == "run_in_blender.py" else []
+        extra = sys.argv[1:] if AS_MODULE else []
     if extra == ["--version"]:  # scripts/test.sh names the Blender it runs the suite in
         print("VERSION=" + bpy.app.version_string.split()[0])
         return 0
@@ -60,10 +62,9 @@ def main() -> int:
 
 
 status = main()
-bpy_module = sys.modules.get("bpy")
-if bpy_module is not None and not bpy_module.app.binary_path:
-    # bpy as a module (no executable): its exit handlers can wait for good once the suite
-    # has run (4.5: a static destructor waits on a thread that has gone), so leave without.
+if AS_MODULE:
+    # Its exit handlers can wait for good once the suite has run (4.5: a static destructor
+    # waits on a thread that has gone), so leave without them.
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(status)

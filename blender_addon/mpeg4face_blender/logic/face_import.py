@@ -24,7 +24,6 @@ from . import feature_points, live, shape_keys
 Array = npt.NDArray[np.float64]
 
 VISEME_AMOUNT = shape_keys.FULL_INTENSITY  # the grammar's viseme keys are at 63
-_FAP_COUNT = 68
 
 
 @dataclass
@@ -121,8 +120,8 @@ def _frame(fap: int, select: int, amplitude: int) -> mpeg4face.FapStream:
     other low-level FAP is sent at 0 with a low-level one, since a decoder gives a FAP not
     sent its left / right partner's value (not with a viseme or expression: a low-level
     FAP present takes a share of their motion)."""
-    mask = np.zeros((1, _FAP_COUNT), dtype=bool)
-    values = np.zeros((1, _FAP_COUNT), dtype=np.int32)
+    mask = np.zeros((1, mpeg4face.FAP_COUNT), dtype=bool)
+    values = np.zeros((1, mpeg4face.FAP_COUNT), dtype=np.int32)
     visemes = np.zeros((1, 4), dtype=np.int32)
     expressions = np.zeros((1, 6), dtype=np.int32)
     mask[0, fap - 1] = True

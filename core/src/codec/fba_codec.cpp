@@ -308,7 +308,6 @@ void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& strea
       }
       const fba::IntraSettings settings = fba::readIntraSettings(in);
       codingType = settings.codingType;
-      ++info.intraPlanes;
       ++(settings.codingType == fba::kCodingTypeDct ? info.dctPlanes : info.predictivePlanes);
       info.intraFrameIndices.push_back(stream.frames.size());
       const auto q = std::lower_bound(info.fapQuants.begin(), info.fapQuants.end(),

@@ -126,14 +126,13 @@ bool hasDecimalComma(std::string_view cell) {
          allDigits(cell.substr(comma + 1));
 }
 
-[[noreturn]] void failDecimalComma(const std::string& fileName, int line,
-                                   const std::string& field, std::string_view example,
-                                   const std::string& how = {}) {
-  throw Error(fileName, line, field,
-              how + "the values use a decimal comma (" + std::string(example) +
-                  "): Live Link Face writes a decimal point (0.5) and separates the cells "
-                  "with commas; re-export the CSV with a decimal point (e.g. from a "
-                  "spreadsheet set to an English locale)");
+// Fails at the reader's line.
+[[noreturn]] void failDecimalComma(const text::LineReader& reader, std::string_view field,
+                                   std::string_view example, const std::string& how = {}) {
+  reader.fail(field, how + "the values use a decimal comma (" + std::string(example) +
+                         "): Live Link Face writes a decimal point (0.5) and separates the "
+                         "cells with commas; re-export the CSV with a decimal point (e.g. "
+                         "from a spreadsheet set to an English locale)");
 }
 
 struct Timecode {
@@ -224,7 +223,7 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
     const std::vector<std::string_view> cells = splitCells(next, ';');
     for (std::size_t c = 0; c < cells.size(); ++c) {
       if (!hasDecimalComma(cells[c])) continue;
-      failDecimalComma(fileName, ahead.lineNumber(),
+      failDecimalComma(ahead,
                        "column " + std::to_string(c + 1) +
                            (c < names.size() ? " (" + std::string(names[c]) + ")" : ""),
                        cells[c], "the cells are separated by semicolons and ");
@@ -268,7 +267,7 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
       // each value in two. The example is the last value (its two cells).
       const std::size_t n = cells.size();
       if (integerPart(cells[n - 2]) && allDigits(cells[n - 1])) {
-        failDecimalComma(fileName, reader.lineNumber(), {},
+        failDecimalComma(reader, {},
                          std::string(cells[n - 2]) + "," + std::string(cells[n - 1]),
                          std::to_string(n) + " cells where the header has " +
                              std::to_string(header.size()) + " and no decimal point: ");
@@ -290,7 +289,7 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
         const std::optional<Timecode> t = parseTimecode(cells[c]);
         if (!t) {
           if (hasDecimalComma(cells[c])) {
-            failDecimalComma(fileName, reader.lineNumber(), columnName(c), cells[c]);
+            failDecimalComma(reader, columnName(c), cells[c]);
           }
           reader.fail(columnName(c),
                       "timecode hh:mm:ss:frame.fraction expected, found " + text::quote(cells[c]));
@@ -301,7 +300,7 @@ LiveLinkCapture parseLiveLinkCsv(std::string_view text, const std::string& fileN
       double value = 0;
       if (!text::tryParseDouble(cells[c], value)) {
         if (hasDecimalComma(cells[c])) {
-          failDecimalComma(fileName, reader.lineNumber(), columnName(c), cells[c]);
+          failDecimalComma(reader, columnName(c), cells[c]);
         }
         const std::string lower = lowerCase(cells[c]);
         const bool notFinite =

@@ -116,7 +116,7 @@ TEST(CliInfoStream, FbaTextAndJson) {
   EXPECT_EQ(j["coding"]["mode"], "predictive");
   EXPECT_EQ(j["coding"]["fap_quant"], nlohmann::json::array({2}));
   EXPECT_EQ(j["coding"]["intra_period"], 10);
-  EXPECT_EQ(j["coding"]["intra_planes"], info.intraPlanes);
+  EXPECT_EQ(j["coding"]["intra_planes"], info.intraFrameIndices.size());
   EXPECT_EQ(j["coding"]["planes"], s.frames.size());  // a predictive plane is one frame
   EXPECT_EQ(j["coding"]["bits"], bits);
   EXPECT_NEAR(j["coding"]["bits_per_second"].get<double>(),

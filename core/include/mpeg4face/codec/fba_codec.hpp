@@ -114,10 +114,10 @@ struct FbaStreamInfo {
   int pcaComponents = 0;              // components over all groups of the PCA header
   int pcaBasisBits = 0;
   int planes = 0;
-  int intraPlanes = 0;
   int predictivePlanes = 0;  // intra planes whose coding_type is 0 ...
   int dctPlanes = 0;         // ... and 1 (the planes after one share its type)
-  // Index in FapStream::frames of each intra plane's first frame, in order.
+  // Index in FapStream::frames of each intra plane's first frame, in order (one per intra
+  // plane).
   std::vector<size_t> intraFrameIndices;
   std::vector<int> fapQuants;  // the fap_quant values of the intra planes, ascending, distinct
 };
