@@ -88,19 +88,28 @@ std::vector<LipRegion> classifyLips(const FaceModel& model, const FaceFrame& fra
                                     const Surface& surface);
 
 // --- clone/same_place.cpp
+// How near two points of a projected surface are to be at one place: a fraction (kSame) of
+// the mean length of the edges at each row, measured in (u, v, depth) as SamePlace measures
+// (0 for a row on no triangle). Relative to the mesh, not a fixed distance: a head stored in
+// single precision (a glTF file, Blender) away from the origin has coordinates rounded by
+// about 1e-7 of their distance from it, which no fixed tolerance small enough for a fine
+// mesh absorbs.
+std::vector<double> samePlaceTolerance(const Projected& p);
 // Finds the source vertex at a target point's place (alignment space and depth), for the
 // exact motion of coincident vertices.
 class SamePlace {
  public:
   SamePlace(const Projected& source, const Points2& centroid);
-  int find(const Eigen::Vector2d& p, double depth, double radius, const Eigen::Vector2d& centroid,
+  int find(const Eigen::Vector2d& p, double depth, const Eigen::Vector2d& centroid,
            LipRegion excluded, const std::vector<LipRegion>& lips) const;
-  static constexpr double kSame = 1e-9;  // alignment units: a face is about 3 wide
+  static constexpr double kSame = 1e-3;  // of the mean edge length at a point
 
  private:
   const Projected& source_;
   const Points2& centroid_;
   std::vector<int> byU_;
+  std::vector<double> tolerance_;  // per source row (samePlaceTolerance)
+  double widest_ = 0;              // the largest of them
 };
 
 // --- clone/butterfly.cpp

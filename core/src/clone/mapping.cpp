@@ -276,10 +276,12 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
   }
   // How far each target point lies under its own face's outer surface (a fold, an inner
   // layer: the paper's smallest-depth rule would give it the outer layer's motion); it takes
-  // the source's layer as far under the source's outer surface (ours).
+  // the source's layer as far under the source's outer surface (ours). A point less than a
+  // thousandth of its edges under it (rounding: samePlaceTolerance) is on it.
   std::vector<double> belowTop(static_cast<std::size_t>(n), 0.0);
   {
     const TriangleInterpolator own(tgt.uv, tgt.triangles, tgt.depth, {}, false);
+    const std::vector<double> onSurface = samePlaceTolerance(tgt);
     for (Eigen::Index t = 0; t < n; ++t) {
       if (!used[static_cast<std::size_t>(t)]) continue;
       const TriangleWeights w = own.locate(tgt.uv.row(t).transpose());
@@ -289,8 +291,9 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
         top += w.weights[static_cast<Eigen::Index>(k)] *
                tgt.depth[static_cast<std::size_t>(w.corners[k])];
       }
-      const double below = tgt.depth[static_cast<std::size_t>(t)] - top;
-      if (below > 1e-9) belowTop[static_cast<std::size_t>(t)] = below;
+      const auto row = static_cast<std::size_t>(t);
+      const double below = tgt.depth[row] - top;
+      if (below > onSurface[row]) belowTop[row] = below;
     }
   }
   // A target vertex at a source vertex's place takes exactly its motion (ours; the filter's
@@ -385,7 +388,7 @@ Mapping buildMapping(const FaceModel& source, const Surface& sourceSurface, cons
                                                   : 0;
     const double depth = tgt.depth[static_cast<std::size_t>(t)];
     const Eigen::Vector2d side = alignedCentroid.row(t).transpose();
-    const int same = samePlace.find(p, depth, SamePlace::kSame, side, c.otherLip, map.sourceLips);
+    const int same = samePlace.find(p, depth, side, c.otherLip, map.sourceLips);
     const double below = belowTop[static_cast<std::size_t>(t)];
     if (same >= 0) {  // the centre sample is that vertex (triangle: any valid index)
       c.weights.triangle = 0;

@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <initializer_list>
 #include <map>
@@ -161,6 +163,161 @@ TEST(Clone, CloningOntoAScaledCopyScalesTheMotion) {
     EXPECT_LE(maxRowNorm(motionOf(b.copies[i], transformed) - reference), tolerance)
         << copies[i].name;
     EXPECT_GT(maxRowNorm(reference), 0) << copies[i].name;
+  }
+}
+
+namespace {
+
+// A UV sphere of `rings` x `segments` quads (triangulated), poles included, about `centre`.
+IndexedFaceSet sphere(const std::string& name, const Eigen::Vector3d& centre, double radius) {
+  constexpr int rings = 6, segments = 8;
+  IndexedFaceSet mesh;
+  mesh.name = name;
+  mesh.coord.resize(2 + (rings - 1) * segments, 3);
+  mesh.coord.row(0) = (centre + radius * Eigen::Vector3d::UnitZ()).transpose();  // the front
+  mesh.coord.row(1) = (centre - radius * Eigen::Vector3d::UnitZ()).transpose();
+  // Vertex k of ring r (ring 0 and `rings` are the poles).
+  const auto ring = [&](int r, int k) {
+    return r == 0 ? 0 : r == rings ? 1 : 2 + (r - 1) * segments + k % segments;
+  };
+  for (int r = 1; r < rings; ++r) {
+    const double polar = r * std::numbers::pi / rings;
+    for (int k = 0; k < segments; ++k) {
+      const double around = k * 2 * std::numbers::pi / segments;
+      mesh.coord.row(ring(r, k)) =
+          (centre + radius * Eigen::Vector3d(std::sin(polar) * std::cos(around),
+                                             std::sin(polar) * std::sin(around), std::cos(polar)))
+              .transpose();
+    }
+  }
+  for (int r = 0; r < rings; ++r) {
+    for (int k = 0; k < segments; ++k) {
+      const int a = ring(r, k), b = ring(r, k + 1), c = ring(r + 1, k), d = ring(r + 1, k + 1);
+      if (r > 0) mesh.coordIndex.insert(mesh.coordIndex.end(), {a, c, b, -1});
+      if (r + 1 < rings) mesh.coordIndex.insert(mesh.coordIndex.end(), {b, c, d, -1});
+    }
+  }
+  return mesh;
+}
+
+// CANDIDE-3 with an eyeball of its own behind each eye: a sphere under a Transform that turns
+// about its centre, the pupil (3.5, 3.6) its front vertex, as a modelled head has them.
+FaceModel withEyeballs(const Candide& c) {
+  FaceModel out = c.neutral;
+  const double radius =
+      0.3 * (*out.featurePointPosition("3.7") - *out.featurePointPosition("3.11")).norm();
+  for (const auto& [name, pupil, lids] :
+       {std::tuple{"LeftEyeball", "3.5", std::array{"3.1", "3.3", "3.7", "3.11"}},
+        std::tuple{"RightEyeball", "3.6", std::array{"3.2", "3.4", "3.8", "3.12"}}}) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const char* id : lids) centre += *out.featurePointPosition(id) / 4;
+    centre.z() -= radius;
+    const int mesh = out.addMeshWithTransform(sphere(name, centre, radius));
+    out.transforms[static_cast<std::size_t>(*out.findTransform(name))].center = centre;
+    out.featurePoints[pupil] = {mesh, 0, Eigen::Vector3d::Zero()};
+  }
+  return out;
+}
+
+// Every vertex in model space (meshes one after another).
+Points3 worldPositions(const FaceModel& model) {
+  const auto world = model.meshWorldMatrices();
+  Eigen::Index rows = 0;
+  for (const IndexedFaceSet& m : model.meshes) rows += m.vertexCount();
+  Points3 out(rows, 3);
+  Eigen::Index r = 0;
+  for (std::size_t m = 0; m < model.meshes.size(); ++m) {
+    for (int v = 0; v < model.meshes[m].vertexCount(); ++v, ++r) {
+      out.row(r) = (world[m] * model.meshes[m].coord.row(v).transpose()).transpose();
+    }
+  }
+  return out;
+}
+
+// A copy's motion of every vertex in model space: Transforms' and vertices' together.
+Points3 worldMotion(const FaceModel& neutral, const FaceShape& shape) {
+  return worldPositions(deformedModel(neutral, shape)) - worldPositions(neutral);
+}
+
+}  // namespace
+
+// Quality (b'): placement does not matter. A head placed away from the origin has its mesh
+// coordinates themselves moved and scaled (not only a Transform above them), and a file or
+// Blender keeps them in single precision. Cloned onto such a copy of itself, every unit the
+// source moves, the eyes' too (lids 19 - 22, eyeball yaw and pitch 23 - 26, thrust 27 - 28,
+// pupils 29 - 30: CANDIDE's own units, which move the eyeball vertices of its one mesh, and
+// turns of eyeballs of their own), moves as the source's times the scale, within 2% of the
+// unit's largest displacement times the scale; each turn is the source's (axis and angle).
+TEST(Clone, CloningOntoAMovedScaledCopyKeepsEveryUnit) {
+  const Candide c = candide();
+  const FaceModel source = withEyeballs(c);
+  std::vector<FaceShape> copies = candideCopies(c, 600);
+  ASSERT_EQ(copies.size(), 54u);
+  for (int fap = 19; fap <= 30; ++fap) {
+    ASSERT_GT(maxRowNorm(motionOf(copyOf(copies, fap), c.neutral)), 0) << "FAP " << fap;
+  }
+  // The eyeballs' turns, as FaceDefTransforms make them: yaw about y, pitch about x.
+  for (const auto& [fap, eye, axis, angle] :
+       {std::tuple{23, "LeftEyeball", Eigen::Vector3d::UnitY(), 0.3},
+        std::tuple{24, "RightEyeball", Eigen::Vector3d::UnitY(), 0.3},
+        std::tuple{25, "LeftEyeball", Eigen::Vector3d::UnitX(), 0.2},
+        std::tuple{26, "RightEyeball", Eigen::Vector3d::UnitX(), 0.2}}) {
+    FaceModel turned = source;
+    turned.transforms[static_cast<std::size_t>(*turned.findTransform(eye))].rotation =
+        Eigen::AngleAxisd(angle, axis);
+    FaceShape& turn = copies.emplace_back(
+        shapeFromDeformedModel(source, turned, "fap" + std::to_string(fap) + " turn"));
+    turn.fapID = fap;
+    turn.amplitude = 600;
+  }
+  // Near the origin (single precision rounds the coordinates by about 1e-7 of ES0) and far
+  // from it (about 2e-6 of ES0).
+  for (const auto& [shift, s] :
+       {std::pair{Eigen::Vector3d(0.3, -0.2, 0.5), 1.8},
+        std::pair{Eigen::Vector3d(0.3, -0.2, 0.5), 2.0},
+        std::pair{Eigen::Vector3d(30, -20, 50), 1.8}}) {
+    for (const bool single : {false, true}) {
+      FaceModel moved = source;
+      for (IndexedFaceSet& mesh : moved.meshes) {
+        mesh.coord = (mesh.coord * s).rowwise() + shift.transpose();
+        if (single) mesh.coord = mesh.coord.cast<float>().cast<double>();
+      }
+      // The eyes' Transforms still turn about the source's eyeball centres: the target's
+      // are found from its own eyeballs (clone/rigid.hpp).
+      const CloneResult r = cloneDeformedCopies(source, copies, moved);
+      ASSERT_EQ(r.copies.size(), copies.size());
+      char label[96];
+      std::snprintf(label, sizeof label, "moved by (%g, %g, %g), scale %.1f, %s precision",
+                    shift.x(), shift.y(), shift.z(), s, single ? "single" : "double");
+      std::string figures;
+      double worst = 0;
+      for (std::size_t i = 0; i < copies.size(); ++i) {
+        const Points3 expected = s * worldMotion(source, copies[i]);
+        const double largest = maxRowNorm(expected);
+        ASSERT_GT(largest, 0) << copies[i].name;
+        const double ratio =
+            maxRowNorm(worldMotion(r.targetNeutral, r.copies[i]) - expected) / largest;
+        worst = std::max(worst, ratio);
+        char line[80];
+        std::snprintf(line, sizeof line, "  FAP %2d %-28s %8.3f%%\n", copies[i].fapID,
+                      copies[i].name.c_str(), 100 * ratio);
+        figures += line;
+        EXPECT_LE(ratio, 0.02) << label << ", FAP " << copies[i].fapID << " (" << copies[i].name
+                               << "): " << 100 * ratio << "% of its largest displacement";
+        // Each Transform turns as the source's does (axis and angle).
+        const auto& from = shapeTransforms(source, copies[i]);
+        for (std::size_t t = 0; t < from.size(); ++t) {
+          const Eigen::Quaterniond sourceTurn =
+              source.transforms[t].rotation.inverse() * from[t].rotation;
+          const Eigen::Quaterniond clonedTurn =
+              r.targetNeutral.transforms[t].rotation.inverse() * r.copies[i].transforms[t].rotation;
+          EXPECT_LE(sourceTurn.angularDistance(clonedTurn), 1e-9)
+              << label << ", " << copies[i].name << ", Transform " << t;
+        }
+      }
+      std::printf("%s: worst unit %.3f%% of its largest displacement\n", label, 100 * worst);
+      if (worst > 0.02) std::printf("%s", figures.c_str());
+    }
   }
 }
 
