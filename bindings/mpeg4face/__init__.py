@@ -126,6 +126,7 @@ __all__ = [
     "fit_preset",
     # the motion check
     "check_motion",
+    "surface_bump",
     # ARKit blendshapes
     "arkit_shape_names",
     "arkit_shape_index",
@@ -141,6 +142,7 @@ __all__ = [
     "prepare_arkit_capture_face",
     "arkit_capture_to_faps",
     "faps_to_arkit",
+    "capture_fidelity",
     # the 2D mesh object
     "read_mesh2d",
     "write_mesh2d",

@@ -668,6 +668,9 @@ class MeshMotion(TypedDict):
     flipped_triangles: list[int]  # indices into the mesh's fan triangles
     new_intersections: list[tuple[int, int]]  # triangle pairs
     touching_self_intersections: int
+    spike_vertices: _Int32  # ascending
+    bump_p99_of_peak: float
+    bump_ratio_max: float
 
 class PoseMotion(TypedDict):
     name: str
@@ -678,6 +681,9 @@ class PoseMotion(TypedDict):
     normal_flips: int
     new_self_intersections: int
     touching_self_intersections: int
+    spikes: int
+    bump_p99_of_peak: float
+    bump_ratio_max: float
     lip_corner_outside_mw0: float | None
     inner_lip_gap_mns0: float | None
     failures: list[str]
@@ -708,12 +714,31 @@ def check_motion(
     flip_degrees: float = 120.0,
     max_flips: int = 0,
     max_intersections: int = 0,
+    max_spikes: int = 0,
+    spike_ratio: float = 0.75,
+    spike_of_peak: float = 0.05,
     max_lip_corner: float = 0.02,
     min_lower_lip: float = 0.5,
     lip_region: float = 0.25,
     lid_region: float = 0.2,
     progress: Callable[[int, int], None] | None = None,
 ) -> MotionCheck: ...
+
+class SurfaceBump(TypedDict):
+    bump: _Float64  # (N,), NaN for a vertex on no triangle
+    local_motion: _Float64  # (N,)
+    peak: float
+    bump_p99_of_peak: float
+    bump_ratio_max: float
+    spikes: _Int32  # ascending
+
+def surface_bump(
+    mesh: IndexedFaceSet,
+    displacements: _ArrayLike,
+    *,
+    spike_ratio: float = 0.75,
+    spike_of_peak: float = 0.05,
+) -> SurfaceBump: ...
 # Face captures (Live Link Face, ARKit weights; docs/arkit.md)
 def livelink_channel_names() -> list[str]: ...
 
@@ -757,6 +782,7 @@ def arkit_capture_to_faps(
     capture: LiveLinkCapture, head: FaceModel | ArkitCaptureFace, fps: float = 25.0
 ) -> FapStream: ...
 def faps_to_arkit(stream: FapStream, head: FaceModel | ArkitCaptureFace) -> LiveLinkCapture: ...
+def capture_fidelity(capture: LiveLinkCapture, head: FaceModel | ArkitCaptureFace, stream: FapStream) -> dict: ...
 
 # The 2D mesh object (docs/mesh2d.md): a sequence is a dict with the JSON form's keys,
 # "frames" float64 (frames, nodes, 2), "triangles" int32 (M, 3).

@@ -134,6 +134,30 @@ void bindCapture(py::module_& m) {
       "stream"_a, "head"_a,
       "A FAP stream -> ARKit weights in 0..1 (bounded least squares per frame) and angles, as "
       "a LiveLinkCapture.");
+  m.def(
+      "capture_fidelity",
+      [](const LiveLinkCapture& c, py::handle head, const FapStream& stream) {
+        const auto prepared = captureFace(head, "capture_fidelity");
+        CaptureFidelity f;
+        {
+          py::gil_scoped_release release;
+          f = measureCaptureFidelity(c, *prepared, stream);
+        }
+        py::list spikes;
+        for (const auto& [mesh, vertex] : f.spikes) spikes.append(py::make_tuple(mesh, vertex));
+        return py::dict("frames"_a = f.frames, "error_mean"_a = f.errorMean,
+                        "error_p95"_a = f.errorP95, "bump_p99"_a = f.bumpP99,
+                        "reference_bump_p99"_a = f.referenceBumpP99,
+                        "point_bump_p99"_a = f.pointBumpP99,
+                        "reference_point_bump_p99"_a = f.referencePointBumpP99,
+                        "bump_max"_a = f.bumpMax, "reference_bump_max"_a = f.referenceBumpMax,
+                        "spikes"_a = spikes);
+      },
+      "capture"_a, "head"_a, "stream"_a,
+      "How `stream` (made from `capture`) plays through the head's tables against the capture "
+      "through its ARKit shapes, relative to each frame's peak motion (docs/arkit.md, "
+      "Fidelity): error mean / p95, bump p99 (all, near feature points) and max for both, "
+      "and the spike vertices as (mesh, vertex).");
 }
 
 }  // namespace mpeg4face::python

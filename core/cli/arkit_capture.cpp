@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mpeg4face arkit to-fap` and `mpeg4face arkit from-fap`: Live Link Face captures (ARKit
 // weights) to FAP streams and back, through a face with ARKit shapes (docs/arkit.md).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -22,6 +23,7 @@ struct CaptureArgs {
   std::string face;
   std::string output;
   double fps = 25;
+  bool report = false;  // to-fap: the playback's fidelity to the capture
 };
 
 // The ICT sample head, built by samples/build.sh.
@@ -36,6 +38,8 @@ CaptureArgs parseArgs(const std::vector<std::string>& args, bool withFps, const 
       out.output = optionValue(args, i, "an output file");
     } else if (a == "--face") {
       out.face = optionValue(args, i, "a head (.glb, .gltf)");
+    } else if (withFps && a == "--report") {
+      out.report = true;
     } else if (withFps && a == "--fps") {
       out.fps = numberArgument(args, i, "frames per second", 1e-3);
     } else if (a.starts_with("-")) {
@@ -80,6 +84,29 @@ void progress(int done, int total) {
   if (done == total) std::fprintf(stderr, "\n");
 }
 
+double ratio(double a, double b) { return b > 0 ? a / b : 0; }
+
+void printFidelity(const CaptureFidelity& f, const ArkitCaptureFace& face) {
+  std::printf(
+      "fidelity over %d frames, against the capture through the face's ARKit shapes "
+      "(relative to each frame's peak motion):\n"
+      "  error: mean %.1f%%, p95 %.1f%%\n"
+      "  bump p99 %.4f (shapes %.4f: x%.2f), near feature points %.4f (x%.2f), max %.4f "
+      "(x%.2f)\n"
+      "  spike vertices: %zu\n",
+      f.frames, 100 * f.errorMean, 100 * f.errorP95, f.bumpP99, f.referenceBumpP99,
+      ratio(f.bumpP99, f.referenceBumpP99), f.pointBumpP99,
+      ratio(f.pointBumpP99, f.referencePointBumpP99), f.bumpMax,
+      ratio(f.bumpMax, f.referenceBumpMax), f.spikes.size());
+  const std::size_t shown = std::min<std::size_t>(f.spikes.size(), 10);
+  for (std::size_t i = 0; i < shown; ++i) {
+    const auto [m, v] = f.spikes[i];
+    std::printf("    %s vertex %d\n",
+                face.face.faceSceneGraph.meshes[static_cast<std::size_t>(m)].name.c_str(), v);
+  }
+  if (shown < f.spikes.size()) std::printf("    and %zu more\n", f.spikes.size() - shown);
+}
+
 }  // namespace
 
 int runArkitToFap(const std::vector<std::string>& rawArgs) {
@@ -93,6 +120,7 @@ int runArkitToFap(const std::vector<std::string>& rawArgs) {
   std::printf("%s: %d frames at %g fps -> %s: %zu frames at %g fps\n", args.input.c_str(),
               capture.frameCount(), capture.frameRate, args.output.c_str(), stream.frames.size(),
               stream.frameRate);
+  if (args.report) printFidelity(measureCaptureFidelity(capture, face, stream), face);
   return 0;
 }
 

@@ -45,6 +45,12 @@ Args parseArgs(const std::vector<std::string>& args) {
       out.limits.normalFlips = intArgument(args, i, 0, 1 << 30);
     } else if (a == "--max-intersections") {
       out.limits.newIntersections = intArgument(args, i, 0, 1 << 30);
+    } else if (a == "--max-spikes") {
+      out.limits.spikeVertices = intArgument(args, i, 0, 1 << 30);
+    } else if (a == "--spike-ratio") {
+      out.limits.bumpOfLocalMotion = numberArgument(args, i, "a ratio", 0);
+    } else if (a == "--spike-of-peak") {
+      out.limits.bumpOfPeak = numberArgument(args, i, "a percentage of the peak", 0) / 100;
     } else if (a == "--max-lip-corner") {
       out.limits.lipCornerOutside = numberArgument(args, i, "a percentage of MW0", 0) / 100;
     } else if (a == "--min-lower-lip") {
@@ -70,11 +76,12 @@ std::string number(const char* pattern, double value) {
 }
 
 // How bad a pose is, for "worst": the number of limits it passes, then how far past the
-// edge-ratio limit, then flips and intersections.
+// edge-ratio limit, then flips, intersections and spikes.
 bool worse(const PoseMotion& a, const PoseMotion& b) {
   if (a.failures.size() != b.failures.size()) return a.failures.size() > b.failures.size();
   if (a.edgeRatioP99 != b.edgeRatioP99) return a.edgeRatioP99 > b.edgeRatioP99;
-  return a.normalFlips + a.newIntersections > b.normalFlips + b.newIntersections;
+  return a.normalFlips + a.newIntersections + a.spikes >
+         b.normalFlips + b.newIntersections + b.spikes;
 }
 
 struct Measure {
@@ -100,15 +107,25 @@ void printSummary(const std::string& head, const MotionCheck& check) {
        [](double v) { return number("%.0f", v); }},
       {"new self-intersections", 0, [](const PoseMotion& p) { return double(p.newIntersections); },
        [](double v) { return number("%.0f", v); }},
+      {"spike vertices", 0, [](const PoseMotion& p) { return double(p.spikes); },
+       [](double v) { return number("%.0f", v); }},
+      {"bump / local motion", 0, [](const PoseMotion& p) { return p.bumpRatioMax; },
+       [](double v) { return number("%.2f", v); }},
       {"inner lip corner outside", -1e9,
        [](const PoseMotion& p) { return p.lipCornerOutside.value_or(-1e9); },
        [](double v) { return v < -1e8 ? std::string("-") : number("%.1f%% MW0", 100 * v); }},
   };
-  const std::vector<std::string> limitText = {
-      number("<= %g", l.edgeRatioP99), "<= " + std::to_string(l.normalFlips),
-      "<= " + std::to_string(l.newIntersections), number("<= %g%%", 100 * l.lipCornerOutside)};
-  const std::vector<double> limitValue = {l.edgeRatioP99, double(l.normalFlips),
-                                          double(l.newIntersections), l.lipCornerOutside};
+  const std::vector<std::string> limitText = {number("<= %g", l.edgeRatioP99),
+                                              "<= " + std::to_string(l.normalFlips),
+                                              "<= " + std::to_string(l.newIntersections),
+                                              "<= " + std::to_string(l.spikeVertices),
+                                              number("<= %g", l.bumpOfLocalMotion),
+                                              number("<= %g%%", 100 * l.lipCornerOutside)};
+  // The bump ratio's columns count the poses with a vertex past it among those whose bump is
+  // more than bumpOfPeak of the peak: the poses with a spike.
+  const std::vector<double> limitValue = {l.edgeRatioP99,          double(l.normalFlips),
+                                          double(l.newIntersections), double(l.spikeVertices),
+                                          l.bumpOfLocalMotion,     l.lipCornerOutside};
   std::printf("  %-26s %-9s %-12s %-7s %-7s %s\n", "measure", "limit", "worst", "keys", "frames",
               "worst at");
   for (std::size_t k = 0; k < measures.size(); ++k) {
@@ -174,6 +191,9 @@ nlohmann::ordered_json poseJson(const PoseMotion& p, const FaceModel& model) {
   j["normal_flips"] = p.normalFlips;
   j["new_self_intersections"] = p.newIntersections;
   j["touching_self_intersections"] = p.touchingIntersections;
+  j["spikes"] = p.spikes;
+  j["bump_p99_of_peak"] = p.bumpP99;
+  j["bump_ratio_max"] = p.bumpRatioMax;
   j["lip_corner_outside_mw0"] = p.lipCornerOutside ? nlohmann::json(*p.lipCornerOutside) : nullptr;
   j["inner_lip_gap_mns0"] = p.innerLipGap ? nlohmann::json(*p.innerLipGap) : nullptr;
   j["failures"] = p.failures;
@@ -188,6 +208,9 @@ nlohmann::ordered_json poseJson(const PoseMotion& p, const FaceModel& model) {
     mj["offending_vertices"] = m.offendingVertices;
     mj["flipped_triangles"] = m.flippedTriangles;
     mj["new_intersections"] = m.newIntersections;
+    mj["spike_vertices"] = m.spikeVertices;
+    mj["bump_p99_of_peak"] = m.bumpP99;
+    mj["bump_ratio_max"] = m.bumpRatioMax;
     j["meshes"].push_back(mj);
   }
   return j;
@@ -202,6 +225,10 @@ void printJson(const std::string& head, const MotionCheck& check, const FaceMode
                  {"flip_degrees", l.flipDegrees},
                  {"normal_flips", l.normalFlips},
                  {"new_self_intersections", l.newIntersections},
+                 {"spike_vertices", l.spikeVertices},
+                 {"bump_of_peak", l.bumpOfPeak},
+                 {"bump_of_local_motion", l.bumpOfLocalMotion},
+                 {"bump_mesh_share", l.bumpMeshShare},
                  {"lip_corner_outside_mw0", l.lipCornerOutside},
                  {"lower_lip_share", l.lowerLipShare},
                  {"lip_region_mw0", l.lipRegion},

@@ -143,10 +143,11 @@ constexpr std::array kCommands{
             "  --transition S  the longest viseme transition, seconds (default 0.08)\n",
             mpeg4face::cli::runSpeak},
     Command{
-        "check", "motion check: stretched edges, flips, self-intersections, lips per key and frame",
+        "check", "motion check per key and frame: stretch, flips, spikes, intersections, lips",
         "mpeg4face check HEAD.glb|.gltf|FACE.wrl [--stream S.fap|.fba ...] [--json]\n"
         "                [--max-edge-ratio R] [--flip-degrees D] [--max-flips N]\n"
-        "                [--max-intersections N] [--max-lip-corner PCT] [--min-lower-lip PCT]\n"
+        "                [--max-intersections N] [--max-spikes N] [--spike-ratio R]\n"
+        "                [--spike-of-peak PCT] [--max-lip-corner PCT] [--min-lower-lip PCT]\n"
         "  every shape key (a .wrl: every table at its outermost borders) and every frame\n"
         "  of each stream through the face's tables, against the neutral (docs/motion-check.md)\n"
         "  --max-edge-ratio R     edge-length ratio max(l/l0, l0/l), p99 of the edges a\n"
@@ -155,6 +156,11 @@ constexpr std::array kCommands{
         "  --max-flips N          flipped triangles allowed per pose (default 0)\n"
         "  --max-intersections N  new self-intersections allowed per pose, lips and lids\n"
         "                         touching not counted (default 0)\n"
+        "  --max-spikes N         spike vertices allowed per pose (default 0)\n"
+        "  --spike-ratio R        a spike's bump |d - the mean d of its one-ring| is more than\n"
+        "                         R of its local motion, the largest |d| of it and its ring\n"
+        "                         (default 0.75; d: displacement from the neutral)\n"
+        "  --spike-of-peak PCT    and more than PCT % of the mesh's largest |d| (default 5)\n"
         "  --max-lip-corner PCT   inner lip corner outside the outer one, % of MW0 (default 2)\n"
         "  --min-lower-lip PCT    the lower lip 8.2's share of the chin 2.1 under FAP 3\n"
         "                         (default 50)\n"
@@ -174,14 +180,16 @@ constexpr std::array kCommands{
             "  OUT is ready for 'mpeg4face fat generate'. docs/arkit.md\n"
             "  --feature-points CSV  bind feature points (needed for the FAPU), as info\n"
             "  --no-visemes, --no-expressions  leave those keys out\n"
-            "mpeg4face arkit to-fap CAPTURE.csv [--face HEAD.glb] [--fps N] -o OUT.fap\n"
+            "mpeg4face arkit to-fap CAPTURE.csv [--face HEAD.glb] [--fps N] [--report] -o OUT.fap\n"
             "mpeg4face arkit from-fap STREAM.fap|.fba [--face HEAD.glb] -o OUT.csv\n"
             "  a Live Link Face capture (CSV of ARKit weights and head / eye angles) as a FAP\n"
             "  stream at N fps (default 25), or a stream as ARKit weights in that layout:\n"
             "  per frame the FAP values or the weights (0..1) that best reproduce the other's\n"
             "  motion of the face (bounded least squares); FAPs 23-26, 48-50 from the angles\n"
             "  --face HEAD  a head with ARKit shapes (and FAP keys) (default: the ICT sample,\n"
-            "               samples/build/ict_head.glb from samples/build.sh)\n",
+            "               samples/build/ict_head.glb from samples/build.sh)\n"
+            "  --report  to-fap: the stream's playback against the capture through the\n"
+            "            face's ARKit shapes (error, bumps, spikes; docs/arkit.md, Fidelity)\n",
             mpeg4face::cli::runArkit},
     Command{"mesh2d", "the 2D mesh object: design, track, code, decode, render, talking portrait",
             "mpeg4face mesh2d design IMAGE (--uniform COLSxROWS [--topology 0..3] | --delaunay N)\n"

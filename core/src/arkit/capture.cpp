@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "arkit/arkit_internal.hpp"
 #include "mpeg4face/arkit/shapes.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/evaluate.hpp"
@@ -29,18 +30,6 @@ std::optional<int> arkitChannel(std::string_view targetName) {
   const std::optional<ArkitShapeRef> ref = arkitShapeIndex(targetName);
   if (!ref || ref->shape >= kArkitShapeCount) return std::nullopt;
   return ref->shape;
-}
-
-// The FAP's positive direction in the standard's axes (x the face's left, y up, z forward),
-// or zero for the FAPs whose motion is not a translation of their feature point.
-Eigen::Vector3d fapDirection(const FapInfo& info) {
-  const std::string_view m = info.positiveMotion;
-  if (m == "down") return {0, -1, 0};
-  if (m == "up") return {0, 1, 0};
-  if (m == "left") return {1, 0, 0};
-  if (m == "right") return {-1, 0, 0};
-  if (m == "forward") return {0, 0, 1};
-  return Eigen::Vector3d::Zero();
 }
 
 // Meshes some FaceDefTransform moves (held by an animated Transform or one below it).
@@ -303,7 +292,8 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
   if (!out.fromTables) {
     for (const FapInfo& info : fapTable()) {
       if (info.number < 3 || isAngleFap(info.number)) continue;
-      const Eigen::Vector3d direction = fapDirection(info);
+      const Eigen::Vector3d direction =
+          arkit::fapDirection(info.positiveMotion).value_or(Eigen::Vector3d::Zero());
       const double unit = out.fapu.unit(info.fapu);
       const auto binding = head.featurePoints.find(std::string(info.featurePoint));
       if (direction.isZero() || unit <= 0 || binding == head.featurePoints.end() ||
@@ -443,6 +433,17 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
   return out;
 }
 
+Eigen::VectorXd captureWeightsAt(const LiveLinkCapture& capture, double time) {
+  const auto after = std::upper_bound(capture.times.begin(), capture.times.end(), time);
+  const int next = std::min(static_cast<int>(after - capture.times.begin()), capture.frameCount() - 1);
+  const int source = std::max(next - 1, 0);
+  const double t0 = capture.times[static_cast<std::size_t>(source)];
+  const double t1 = capture.times[static_cast<std::size_t>(next)];
+  const double blend = t1 > t0 ? std::clamp((time - t0) / (t1 - t0), 0.0, 1.0) : 0.0;
+  return (1 - blend) * capture.values.row(source).transpose() +
+         blend * capture.values.row(next).transpose();
+}
+
 FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureFace& face,
                              const CaptureOptions& options) {
   if (capture.frameCount() == 0) throw Error({}, 0, "capture", "the capture has no frames");
@@ -464,21 +465,11 @@ FapStream arkitCaptureToFaps(const LiveLinkCapture& capture, const ArkitCaptureF
   const Eigen::VectorXd lower = Eigen::VectorXd::Zero(columns);
   const Eigen::VectorXd upper = Eigen::Map<const Eigen::VectorXd>(face.columnReach.data(), columns);
   Eigen::VectorXd x = lower, b;
-  Eigen::VectorXd weights(kLiveLinkChannelCount);
+  Eigen::VectorXd weights;
   std::vector<bool> locked(static_cast<std::size_t>(columns));
-  int source = 0;  // the capture frame at or before the output frame's time
   const int jawChannel = jawOpenChannel();
   for (int f = 0; f < frames; ++f) {
-    const double time = start + f / options.fps;
-    while (source + 1 < capture.frameCount() &&
-           capture.times[static_cast<std::size_t>(source + 1)] <= time)
-      ++source;
-    const int next = std::min(source + 1, capture.frameCount() - 1);
-    const double t0 = capture.times[static_cast<std::size_t>(source)];
-    const double t1 = capture.times[static_cast<std::size_t>(next)];
-    const double blend = t1 > t0 ? std::clamp((time - t0) / (t1 - t0), 0.0, 1.0) : 0.0;
-    weights = (1 - blend) * capture.values.row(source).transpose() +
-              blend * capture.values.row(next).transpose();
+    weights = captureWeightsAt(capture, start + f / options.fps);
 
     // The angle FAPs first: what their tables move on the face area (lids following the
     // eyes) is not asked of the others.

@@ -39,15 +39,6 @@ constexpr double kWeightCost = 0.01;
 // Transform centre within this share of the motion.
 constexpr double kMaxRotationFitError = 0.25;
 
-std::optional<Eigen::Vector3d> directionOf(std::string_view motion) {
-  if (motion == "up") return Eigen::Vector3d::UnitY();
-  if (motion == "down") return -Eigen::Vector3d::UnitY();
-  if (motion == "left") return Eigen::Vector3d::UnitX();  // the face's left is +x
-  if (motion == "right") return -Eigen::Vector3d::UnitX();
-  if (motion == "forward") return Eigen::Vector3d::UnitZ();
-  return std::nullopt;
-}
-
 // The side a FAP acts on, from the l / r / lm / rm part of its standard name.
 FaceSide fapSide(const FapInfo& info) {
   std::stringstream parts{std::string(info.name)};
@@ -491,7 +482,7 @@ ArkitMapping mapArkitToFaps(const FaceModel& head, const ArkitShapes& shapes,
       out.missed.push_back({f, 0,
                             "a head rotation: a Transform, not a blendshape (Live Link's "
                             "HeadPitch / HeadYaw / HeadRoll)"});
-    } else if (!directionOf(info.positiveMotion) ||
+    } else if (!arkit::fapDirection(info.positiveMotion) ||
                info.featurePoint.find(',') != std::string_view::npos) {
       out.missed.push_back({f, 0, "no linear direction at one feature point"});
     } else if (fapu.unit(info.fapu) == 0) {
@@ -512,7 +503,7 @@ ArkitMapping mapArkitToFaps(const FaceModel& head, const ArkitShapes& shapes,
                                 " is not bound to a vertex of the head"});
       continue;
     }
-    const LinearFap fap{info, *directionOf(info->positiveMotion), fapu.unit(info->fapu),
+    const LinearFap fap{info, *arkit::fapDirection(info->positiveMotion), fapu.unit(info->fapu),
                         static_cast<int>(p - motion.points.begin())};
     const FaceSide side = fapSide(*info);
     std::vector<int> columns;

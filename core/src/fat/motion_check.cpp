@@ -18,6 +18,7 @@
 #include "mpeg4face/fat/names.hpp"
 #include "mpeg4face/fit/fit.hpp"
 #include "mpeg4face/model/fapu.hpp"
+#include "mpeg4face/model/surface_bump.hpp"
 #include "mpeg4face/spec.hpp"
 
 namespace mpeg4face {
@@ -45,8 +46,8 @@ std::vector<std::string> pointIds(int group, int last) {
   return ids;
 }
 
-// One mesh's neutral, prepared once: its edges, normals, a CGAL surface mesh whose point
-// positions each pose overwrites, the self-intersections it already has, and which
+// One mesh's neutral, prepared once: its edges, normals, one-rings, a CGAL surface mesh whose
+// point positions each pose overwrites, the self-intersections it already has, and which
 // vertices lie where lips or lids may touch.
 struct MeshCheck {
   int mesh = 0;
@@ -54,6 +55,7 @@ struct MeshCheck {
   std::vector<std::array<int, 2>> edges;  // unique
   std::vector<double> edgeLength;         // neutral
   std::vector<Eigen::Vector3d> normal;    // neutral, unnormalised
+  WeldedRings rings;                      // for the bumps
   double moveTolerance = 0;               // a vertex moved when it moved more than this
   SurfaceMesh surface;
   std::vector<int> vertexSource;            // surface vertex -> mesh vertex
@@ -119,6 +121,7 @@ MeshCheck prepareMesh(const FaceModel& model, int m, const std::vector<Eigen::Ve
   std::sort(c.edges.begin(), c.edges.end());
   c.edges.erase(std::unique(c.edges.begin(), c.edges.end()), c.edges.end());
   for (const auto& [a, b] : c.edges) c.edgeLength.push_back((coord.row(a) - coord.row(b)).norm());
+  c.rings = weldedRings(coord, c.triangles);
   const double size =
       coord.rows() ? (coord.colwise().maxCoeff() - coord.colwise().minCoeff()).norm() : 0.0;
   c.moveTolerance = 1e-7 * size;
@@ -222,9 +225,23 @@ class Checker {
   PoseMotion check(const std::vector<Points3>& coord, std::string name) {
     PoseMotion pose;
     pose.name = std::move(name);
-    for (MeshCheck& c : meshes_) {
+    // Each mesh's largest motion in model space, and the pose's: a mesh that moves a mere
+    // fraction of the pose (a lip FAP's rounding on the teeth) is not measured for spikes.
+    std::vector<double> peak(meshes_.size(), 0.0);
+    for (std::size_t i = 0; i < meshes_.size(); ++i) {
+      const int m = meshes_[i].mesh;
+      if (meshes_[i].triangles.empty()) continue;
+      const Points3 d = (coord[m] - neutral_.meshes[m].coord) * world_[m].linear().transpose();
+      if (d.rows() > 0) peak[i] = d.rowwise().norm().maxCoeff();
+    }
+    const double posePeak = peak.empty() ? 0.0 : *std::max_element(peak.begin(), peak.end());
+    for (std::size_t i = 0; i < meshes_.size(); ++i) {
+      MeshCheck& c = meshes_[i];
       if (c.triangles.empty()) continue;
-      if (auto motion = checkMesh(c, coord[c.mesh])) pose.meshes.push_back(std::move(*motion));
+      const bool bumps = peak[i] >= limits_.bumpMeshShare * posePeak;
+      if (auto motion = checkMesh(c, coord[c.mesh], bumps)) {
+        pose.meshes.push_back(std::move(*motion));
+      }
     }
     for (const MeshMotion& m : pose.meshes) {
       pose.edgeRatioMax = std::max(pose.edgeRatioMax, m.edgeRatioMax);
@@ -232,6 +249,9 @@ class Checker {
       pose.normalFlips += static_cast<int>(m.flippedTriangles.size());
       pose.newIntersections += static_cast<int>(m.newIntersections.size());
       pose.touchingIntersections += m.touchingIntersections;
+      pose.spikes += static_cast<int>(m.spikeVertices.size());
+      pose.bumpP99 = std::max(pose.bumpP99, m.bumpP99);
+      pose.bumpRatioMax = std::max(pose.bumpRatioMax, m.bumpRatioMax);
     }
     if (outwards_) {
       const double mw0 = fapu_.MW0.value;
@@ -253,6 +273,12 @@ class Checker {
       pose.failures.push_back(std::to_string(pose.newIntersections) +
                               " new self-intersections (not lips or lids touching)");
     }
+    if (pose.spikes > limits_.spikeVertices) {
+      pose.failures.push_back(std::to_string(pose.spikes) +
+                              (pose.spikes == 1 ? " spike vertex" : " spike vertices") +
+                              format(" (bump %.2f x the local motion", pose.bumpRatioMax) +
+                              format(" > %g)", limits_.bumpOfLocalMotion));
+    }
     if (pose.lipCornerOutside && *pose.lipCornerOutside > limits_.lipCornerOutside) {
       pose.failures.push_back(
           format("inner lip corner %.1f%% of MW0", 100 * *pose.lipCornerOutside) +
@@ -261,7 +287,8 @@ class Checker {
     return pose;
   }
 
-  std::optional<MeshMotion> checkMesh(MeshCheck& c, const Points3& coord) const {
+  // `bumps`: measure the bumps and spikes too.
+  std::optional<MeshMotion> checkMesh(MeshCheck& c, const Points3& coord, bool bumps) const {
     const Points3& rest = neutral_.meshes[c.mesh].coord;
     std::vector<bool> moved(rest.rows(), false);
     bool any = false;
@@ -297,6 +324,16 @@ class Checker {
         std::unique(out.stretchedVertices.begin(), out.stretchedVertices.end()),
         out.stretchedVertices.end());
     offending = out.stretchedVertices;
+
+    // Spikes: a mesh moved by rounding alone has none.
+    const SurfaceBump bump = bumps ? surfaceBump(c.rings, coord - rest) : SurfaceBump{};
+    if (bump.peak > c.moveTolerance) {
+      SurfaceSpikes spikes = surfaceSpikes(bump, limits_.bumpOfPeak, limits_.bumpOfLocalMotion);
+      out.bumpP99 = spikes.bumpP99;
+      out.bumpRatioMax = spikes.localRatioMax;
+      out.spikeVertices = std::move(spikes.vertices);
+      offending.insert(offending.end(), out.spikeVertices.begin(), out.spikeVertices.end());
+    }
 
     // Triangles with a moved corner: flips, and the box they span for the intersection test.
     const double cosFlip = std::cos(limits_.flipDegrees * std::numbers::pi / 180);

@@ -26,8 +26,10 @@ std::string writeHead(bool bad) {
     h.key("expression1_stretch", h.stretchSheet, {-2, 0, 0});
     h.key("fap3@1024", h.chin, {0, -1, 0});
     h.key("fap3@1024", h.lowerLip, {0, -0.3, 0});
-  } else {
-    h.key("expression2_ok", h.stretchSheet, {0.1, 0, 0});
+  } else {  // the whole sheet: no stretch, no spike
+    for (int v = h.stretchSheet; v < h.stretchSheet + 9; ++v) {
+      h.key("expression2_ok", v, {0.1, 0, 0});
+    }
   }
   const std::string path = (scratchDir() / (bad ? "bad.glb" : "good.glb")).string();
   writeGltf(h.model, path);
@@ -48,7 +50,8 @@ std::string writeStream() {
 }
 
 TEST(CliCheck, SummaryNamesTheWorstKeyAndTheLimit) {
-  const auto r = runCli("check " + writeHead(true) + " --stream " + writeStream());
+  const std::string head = writeHead(true);
+  const auto r = runCli("check " + head + " --stream " + writeStream());
   EXPECT_EQ(r.status, 4) << r.out;
   EXPECT_NE(r.stdoutOnly.find("FAIL - 1 of 2 keys, 0 of 4 frames past the limits"),
             std::string::npos)
@@ -57,10 +60,24 @@ TEST(CliCheck, SummaryNamesTheWorstKeyAndTheLimit) {
   EXPECT_NE(r.stdoutOnly.find("edge ratio p99 2.24 > 2"), std::string::npos) << r.out;
   EXPECT_NE(r.stdoutOnly.find("lips never part"), std::string::npos);
   EXPECT_NE(r.stdoutOnly.find("expression1_stretch"), std::string::npos);
+  // The corner the key moves alone is a spike: its row in the table, and in the key's line.
+  EXPECT_NE(r.stdoutOnly.find("1 spike vertex (bump 1.00 x the local motion > 0.75)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.stdoutOnly.find("  spike vertices             <= 0      1            1       0"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.stdoutOnly.find("  bump / local motion        <= 0.75   1.00         1       0"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.stdoutOnly.find("the lower lip 8.2 moves 30% of the chin 2.1"), std::string::npos);
   EXPECT_NE(r.stdoutOnly.find("jaw.fap"), std::string::npos);
   EXPECT_NE(r.out.find("check: 6/6 poses"), std::string::npos);  // progress, on stderr
   EXPECT_EQ(r.stdoutOnly.find("poses"), std::string::npos);
+  // Within the other limits the spike alone fails the head.
+  const auto spike = runCli("check " + head + " --max-edge-ratio 3.5 --min-lower-lip 25");
+  EXPECT_EQ(spike.status, 4) << spike.out;
+  EXPECT_NE(spike.stdoutOnly.find("FAIL - 1 of 2 keys"), std::string::npos) << spike.out;
 }
 
 TEST(CliCheck, JsonAndLimitOptions) {
@@ -75,11 +92,22 @@ TEST(CliCheck, JsonAndLimitOptions) {
   EXPECT_NEAR(key["edge_ratio_max"].get<double>(), 3.0, 1e-5);
   EXPECT_EQ(key["meshes"][0]["mesh"], "skin");
   EXPECT_FALSE(key["meshes"][0]["offending_vertices"].empty());
+  EXPECT_EQ(key["spikes"], 1);
+  EXPECT_NEAR(key["bump_ratio_max"].get<double>(), 1.0, 1e-9);
+  EXPECT_EQ(key["meshes"][0]["spike_vertices"], nlohmann::json::array({0}));  // stretchSheet
+  EXPECT_EQ(j["limits"]["spike_vertices"], 0);
+  EXPECT_NEAR(j["limits"]["bump_of_local_motion"].get<double>(), 0.75, 1e-12);
+  EXPECT_NEAR(j["limits"]["bump_of_peak"].get<double>(), 0.05, 1e-12);
   EXPECT_NEAR(j["lower_lip_share"].get<double>(), 0.3, 1e-5);
   // Looser limits pass the same head.
-  const auto loose = runCli("check " + head + " --max-edge-ratio 3.5 --min-lower-lip 25");
+  const auto loose =
+      runCli("check " + head + " --max-edge-ratio 3.5 --min-lower-lip 25 --max-spikes 1");
   EXPECT_EQ(loose.status, 0) << loose.out;
   EXPECT_NE(loose.stdoutOnly.find("PASS"), std::string::npos);
+  // A ratio limit above 1 lets the spike pass.
+  EXPECT_EQ(
+      runCli("check " + head + " --max-edge-ratio 3.5 --min-lower-lip 25 --spike-ratio 1.5").status,
+      0);
   EXPECT_EQ(runCli("check " + writeHead(false)).status, 0);
 }
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The motion check on a synthetic head whose keys each break one limit (or touch at the lips
-// only), through its shape keys, its tables and a stream played on them.
+// only), through its shape keys, its tables and a stream played on them; and a spike on
+// CANDIDE-3.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +9,9 @@
 #include "motion_check_fixture.hpp"
 #include "mpeg4face/fat/motion_check.hpp"
 #include "mpeg4face/fat/names.hpp"
+#include "mpeg4face/io/feature_point_csv.hpp"
+#include "mpeg4face/io/wfm.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -15,12 +19,19 @@ using namespace mpeg4face;
 using mpeg4face::test::MotionHead;
 using mpeg4face::test::motionHead;
 
+// A smooth dent of sheet B's (3 x 3) centre by `centre` along z: the whole sheet moves 40% of
+// it, so that the centre is no spike (its bump is 60% of its motion, < 0.75).
+void dent(MotionHead& h, const std::string& name, int sheet, double centre) {
+  for (int v = sheet; v < sheet + 9; ++v) h.key(name, v, {0, 0, 0.4 * centre});
+  h.key(name, sheet + 4, {0, 0, 0.6 * centre});
+}
+
 MotionHead keyedHead() {
   MotionHead h = motionHead();
   h.key("expression1_stretch", h.stretchSheet, {-2, 0, 0});    // an edge of 1 becomes 3
   h.key("expression2_flip", h.stretchSheet, {1.5, 1.5, 0});    // over its neighbours
   h.key("expression3_pierce", h.crossSheetB + 4, {0, 0, -1});  // B's centre through A
-  h.key("expression4_lips", h.lipSheetB + 4, {0, 0, -0.1});    // the same at the mouth
+  dent(h, "expression4_lips", h.lipSheetB, -0.1);                // the same at the mouth
   h.key("expression5_corner", h.innerLeft, {0.3, 0, 0});       // 5% of MW0 outside 8.3
   h.key("expression6_corner", h.innerLeft, {0.21, 0, 0});      // 0.5%: within the limit
   h.key("fap3@1024", h.chin, {0, -1, 0});                      // MNS0 = 1: 1024 units
@@ -66,6 +77,12 @@ TEST_F(MotionCheckTest, StretchedEdge) {
   EXPECT_TRUE(std::binary_search(v.begin(), v.end(), head->stretchSheet));
   EXPECT_EQ(p.normalFlips, 0);
   EXPECT_EQ(p.newIntersections, 0);
+  // A corner moved alone is a spike too: its ring (two edges and the diagonal) is still.
+  EXPECT_EQ(p.meshes[0].spikeVertices, std::vector<int>{head->stretchSheet});
+  EXPECT_EQ(p.spikes, 1);
+  EXPECT_NEAR(p.bumpRatioMax, 1.0, 1e-12);
+  EXPECT_TRUE(fails(p, "1 spike vertex (bump 1.00 x the local motion > 0.75)"))
+      << ::testing::PrintToString(p.failures);
 }
 
 TEST_F(MotionCheckTest, FlippedTriangle) {
@@ -91,6 +108,9 @@ TEST_F(MotionCheckTest, LipsTouchingIsNotAFailure) {
   EXPECT_GT(p.touchingIntersections, 0);
   EXPECT_EQ(p.newIntersections, 0);
   EXPECT_TRUE(p.failures.empty()) << ::testing::PrintToString(p.failures);
+  // The dent: the centre's bump 0.06 is 60% of its motion 0.1.
+  EXPECT_EQ(p.spikes, 0);
+  EXPECT_NEAR(p.bumpRatioMax, 0.6, 1e-9);
 }
 
 TEST_F(MotionCheckTest, InnerLipCornerOutsideTheOuterOne) {
@@ -157,12 +177,87 @@ TEST_F(MotionCheckTest, FaceKeysAreTheTablesAtTheirBorders) {
 TEST(MotionCheck, ANeutralThatAlreadySelfIntersectsIsNotNew) {
   MotionHead h = motionHead();
   h.model.meshes[0].coord(h.crossSheetB + 4, 2) = -0.5;  // B's centre already through A
-  h.key("expression1", h.crossSheetB + 4, {0, 0, -0.05});
+  dent(h, "expression1", h.crossSheetB, -0.05);
   const MotionCheck c = checkMotion(h.model, {});
   EXPECT_GT(c.neutralIntersections, 0);
   ASSERT_EQ(c.keys.size(), 1u);
   EXPECT_EQ(c.keys[0].newIntersections, 0);
   EXPECT_TRUE(c.keys[0].failures.empty()) << ::testing::PrintToString(c.keys[0].failures);
+}
+
+}  // namespace
+
+namespace {
+
+// A second mesh (lower teeth, say) that a pose moves by rounding, 0.5% of the skin's motion,
+// is not measured for spikes; moved by 5% of it, its poked vertex is one.
+TEST(MotionCheck, AMeshThePoseBarelyMovesIsNotMeasuredForSpikes) {
+  MotionHead h = motionHead();
+  IndexedFaceSet teeth;
+  teeth.name = "teeth";
+  mpeg4face::test::addSheet(teeth, {0, 5, 0}, 3, 1);
+  h.model.addMeshWithTransform(std::move(teeth));
+  for (const char* name : {"expression1_rounding", "expression2_poke"}) {
+    for (int v = h.stretchSheet; v < h.stretchSheet + 9; ++v) h.key(name, v, {1, 0, 0});
+  }
+  IndexedFaceSet& mesh = h.model.meshes[1];
+  MorphTarget rounding{"expression1_rounding", Points3::Zero(9, 3)};
+  rounding.displacements(4, 2) = 0.005;
+  MorphTarget poke{"expression2_poke", Points3::Zero(9, 3)};
+  poke.displacements(4, 2) = 0.05;
+  mesh.morphTargets = {rounding, poke};
+
+  const MotionCheck c = checkMotion(h.model, {});
+  const PoseMotion& still = pose(c, "expression1_rounding");
+  EXPECT_EQ(still.spikes, 0);
+  EXPECT_TRUE(still.failures.empty()) << ::testing::PrintToString(still.failures);
+  const PoseMotion& poked = pose(c, "expression2_poke");
+  EXPECT_EQ(poked.spikes, 1);
+  const auto teethMotion = std::find_if(poked.meshes.begin(), poked.meshes.end(),
+                                        [](const MeshMotion& m) { return m.mesh == 1; });
+  ASSERT_NE(teethMotion, poked.meshes.end());
+  EXPECT_EQ(teethMotion->spikeVertices, std::vector<int>{4});
+}
+
+// CANDIDE-3 with its feature points and a key that pushes the nose tip 9.3 alone, by 0.01
+// (a fifth of its shortest edge) along +z, out of the face: no edge ratio, flip or
+// intersection sees it; the spike measure does. And a key that moves the whole face, which
+// has no bump at all.
+TEST(MotionCheck, OneVertexPushedOnAHeadIsASpike) {
+  FaceModel head = readWfm(mpeg4face::test::kData / "candide3" / "candide3.wfm").model;
+  head.featurePoints =
+      readFeaturePointCsv(mpeg4face::test::kData / "candide3" / "feature_points.csv", head)
+          .featurePoints;
+  const FeaturePointBinding nose = head.featurePoints.at("9.3");
+  ASSERT_GE(nose.mesh, 0);
+  IndexedFaceSet& mesh = head.meshes[static_cast<std::size_t>(nose.mesh)];
+  MorphTarget spike{"expression1_spike", Points3::Zero(mesh.vertexCount(), 3)};
+  spike.displacements(nose.vertex, 2) = 0.01;
+  MorphTarget shift{"expression2_shift", Points3::Zero(mesh.vertexCount(), 3)};
+  shift.displacements.col(1).setConstant(0.05);
+  mesh.morphTargets = {spike, shift};
+
+  const MotionCheck c = checkMotion(head, {});
+  const PoseMotion& p = pose(c, "expression1_spike");
+  ASSERT_EQ(p.failures.size(), 1u) << ::testing::PrintToString(p.failures);
+  EXPECT_EQ(p.failures[0].rfind("1 spike vertex (bump 1.00 x the local motion > 0.75)", 0), 0u)
+      << p.failures[0];
+  EXPECT_LT(p.edgeRatioP99, 2.0);
+  ASSERT_EQ(p.meshes.size(), 1u);
+  EXPECT_EQ(p.meshes[0].spikeVertices, std::vector<int>{nose.vertex});
+  const std::vector<int>& offending = p.meshes[0].offendingVertices;
+  EXPECT_TRUE(std::binary_search(offending.begin(), offending.end(), nose.vertex));
+  EXPECT_NEAR(p.bumpRatioMax, 1.0, 1e-9);
+
+  const PoseMotion& still = pose(c, "expression2_shift");
+  EXPECT_TRUE(still.failures.empty()) << ::testing::PrintToString(still.failures);
+  EXPECT_EQ(still.spikes, 0);
+  EXPECT_LT(still.bumpP99, 1e-9);
+
+  // Allowed, the spike passes.
+  MotionLimits limits;
+  limits.spikeVertices = 1;
+  EXPECT_TRUE(pose(checkMotion(head, {}, limits), "expression1_spike").failures.empty());
 }
 
 }  // namespace

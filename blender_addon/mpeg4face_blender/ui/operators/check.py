@@ -24,7 +24,7 @@ results: dict[str, dict[str, Any]] = {}  # object name -> check_motion's result
 
 class MPEG4FACE_OT_check_motion(bpy.types.Operator):
     """Check every shape key named for MPEG-4 (and the imported stream) for stretched edges,
-    flipped triangles, new self-intersections and lip corners"""
+    flipped triangles, spikes, new self-intersections and lip corners"""
 
     bl_idname = "mpeg4face.check_motion"
     bl_label = "Check Motion"
@@ -63,13 +63,17 @@ class MPEG4FACE_OT_check_motion(bpy.types.Operator):
         finally:
             wm.progress_end()
         results[obj.name] = result
-        self.report({"INFO"} if result["passed"] else {"WARNING"}, check_logic.headline(result))
+        text = check_logic.headline(result)
+        spikes = check_logic.spikes(result)
+        if spikes:
+            text += f". {spikes}"
+        self.report({"INFO"} if result["passed"] else {"WARNING"}, text)
         return {"FINISHED"}
 
 
 class MPEG4FACE_OT_select_offending(bpy.types.Operator):
-    """Select in Edit Mode the vertices this key or frame stretches, flips or makes
-    intersect"""
+    """Select in Edit Mode the vertices this key or frame stretches, flips, makes intersect or
+    moves as spikes"""
 
     bl_idname = "mpeg4face.select_offending"
     bl_label = "Select Offending Vertices"
@@ -99,7 +103,9 @@ class MPEG4FACE_OT_select_offending(bpy.types.Operator):
                     bm.verts[i].select_set(True)
             bm.select_flush_mode()
         pose = result[self.kind][self.index]["name"]
-        self.report({"INFO"}, f"{len(vertices)} vertices selected: {pose}")
+        spikes = len(check_logic.spike_vertices(result, self.kind, self.index))
+        also = f" ({spikes} {'spike' if spikes == 1 else 'spikes'})" if spikes else ""
+        self.report({"INFO"}, f"{len(vertices)} vertices selected{also}: {pose}")
         return {"FINISHED"}
 
 
@@ -125,6 +131,9 @@ class MPEG4FACE_PT_motion_check(_Sidebar, bpy.types.Panel):
                       "CHECKMARK" if result["passed"] else "ERROR")
         for failure in result["failures"]:
             ui_text.label(layout, context, failure, "ERROR")
+        spikes = check_logic.spikes(result)
+        if spikes:
+            ui_text.label(layout, context, spikes, "ERROR")
         for kind, title in (("keys", "Worst keys"), ("frames", "Worst frames")):
             rows = check_logic.worst(result, kind)
             if not rows:

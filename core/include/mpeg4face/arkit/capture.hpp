@@ -96,6 +96,32 @@ LiveLinkCapture fapsToArkit(const FapStream& stream, const ArkitCaptureFace& fac
 LiveLinkCapture fapsToArkit(const FapStream& stream, const FaceModel& arkitHead,
                             const std::function<void(int, int)>& progress = {});
 
+// The capture's weights (all 61 channels) at `time`, linear between its frames and held
+// before the first and after the last: what arkitCaptureToFaps fits at each output frame.
+Eigen::VectorXd captureWeightsAt(const LiveLinkCapture& capture, double time);
+
+// How a FAP stream made from a capture plays back through the face's FaceDefTables, frame
+// by frame on the face area, against the same capture played through the face's ARKit
+// shapes (the reference). Figures are relative to each frame's peak reference motion, over
+// the frames that move the face (peak >= 1.5% of ES0) and each frame's moving area (the
+// vertices that move at least 2% of its peak). bump = |d_i - mean of d_j over i's one-ring|
+// (model/surface_bump.hpp). docs/arkit.md, "Fidelity".
+struct CaptureFidelity {
+  int frames = 0;  // frames compared
+  double errorMean = 0, errorP95 = 0;  // |playback - reference| per vertex
+  // bump's 99th percentile over the moving area, and over its vertices within 5% of ES0 of
+  // a feature point; its largest; each for the playback and for the reference.
+  double bumpP99 = 0, referenceBumpP99 = 0;
+  double pointBumpP99 = 0, referencePointBumpP99 = 0;
+  double bumpMax = 0, referenceBumpMax = 0;
+  // (mesh, vertex) where some frame's playback bump is above 10% of the peak and above 3
+  // times the reference's bump there; sorted.
+  std::vector<std::pair<int, int>> spikes;
+};
+// Throws mpeg4face::Error when the stream has no frame or the face has no tables.
+CaptureFidelity measureCaptureFidelity(const LiveLinkCapture& capture, const ArkitCaptureFace& face,
+                                       const FapStream& stream);
+
 // Minimises 0.5 x' G x - b' x with lower <= x <= upper (upper may be +inf), G symmetric
 // positive definite: an active-set method (Stark and Parker's BVLS on the normal equations)
 // started from `x` (clamped into the bounds), so that a previous frame's solution makes it

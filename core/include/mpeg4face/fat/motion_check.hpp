@@ -2,9 +2,9 @@
 // The motion check: does a face look right in motion? Every shape key of a head, and every
 // frame of FAP streams evaluated through the face's tables, measured against the neutral
 // face, per mesh: edge stretch, flipped triangles, new self-intersections (CGAL's Polygon
-// Mesh Processing), and at the mouth the inner lip corners against the outer ones, the
-// inner-lip gap and the lower lip's share of the jaw. What each measure means, the limits
-// and why: docs/motion-check.md.
+// Mesh Processing), spikes (model/surface_bump.hpp), and at the mouth the inner lip corners
+// against the outer ones, the inner-lip gap and the lower lip's share of the jaw. What each
+// measure means, the limits and why: docs/motion-check.md.
 #pragma once
 
 #include <array>
@@ -37,6 +37,19 @@ struct MotionLimits {
   double lipCornerOutside = 0.02;
   // The lower lip's (8.2) share of the chin's (2.1) motion under FAP 3, at least.
   double lowerLipShare = 0.5;
+  // A spike: a vertex whose bump (|d_i - the mean d of its one-ring|, d the displacement from
+  // the neutral) is more than bumpOfPeak of the mesh's largest |d| in the pose and more than
+  // bumpOfLocalMotion of its local motion m_i = max(|d_i|, |d_j| over the ring). Calibrated
+  // on the ICT scanned head (issue 41): its 51 ARKit expression shapes and the 137 frames of
+  // a Live Link capture played through them reach bump / m at most 0.47 and 0.58 over the
+  // vertices with bump > 5% of the peak; a FAP playback with spikes has p99 1.49, max 1.86.
+  double bumpOfPeak = 0.05;
+  double bumpOfLocalMotion = 0.75;
+  int spikeVertices = 0;  // spike vertices allowed per pose
+  // Spikes are looked for in the meshes a pose moves by at least this share of the pose's
+  // largest motion (any mesh, model space): a FAP's rounding on other meshes (an eyelid FAP
+  // moving the ICT head's lower teeth by a micrometre) is not skin motion.
+  double bumpMeshShare = 0.01;
 };
 
 // One mesh in one pose against the neutral.
@@ -49,7 +62,14 @@ struct MeshMotion {
   std::vector<int> flippedTriangles;
   std::vector<std::array<int, 2>> newIntersections;  // not in the neutral, not touching
   int touchingIntersections = 0;                     // new pairs within the lips or the lids
-  // Sorted vertices of the stretched edges, flipped and newly intersecting triangles.
+  // The bump (model/surface_bump.hpp): p99 of bump / peak over the vertices that move at
+  // least 2% of the peak, the largest bump / local motion over those with bump > bumpOfPeak *
+  // peak, and the spikes (ascending). 0 and none for a mesh whose peak is within the
+  // tolerance of a still vertex or less than bumpMeshShare of the pose's.
+  double bumpP99 = 0, bumpRatioMax = 0;
+  std::vector<int> spikeVertices;
+  // Sorted vertices of the stretched edges, flipped and newly intersecting triangles, and
+  // the spikes.
   std::vector<int> offendingVertices;
 };
 
@@ -61,6 +81,8 @@ struct PoseMotion {
   std::vector<MeshMotion> meshes;             // the meshes the pose moves
   double edgeRatioMax = 1, edgeRatioP99 = 1;  // worst mesh
   int normalFlips = 0, newIntersections = 0, touchingIntersections = 0;
+  int spikes = 0;                        // spike vertices, all meshes
+  double bumpP99 = 0, bumpRatioMax = 0;  // worst mesh
   // max over both sides of (inner corner - outer corner) along the mouth, outwards, in MW0:
   // > 0 when an inner corner is outside its outer one. nullopt without 2.4/2.5/8.3/8.4.
   std::optional<double> lipCornerOutside;
