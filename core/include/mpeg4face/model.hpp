@@ -9,6 +9,7 @@
 //   model/vertex_normals.hpp  smooth normals of a moving triangle mesh
 //   model/mesh_cut.hpp        a part cut out of a model by a plane (a head off a body)
 //   model/mesh_resample.hpp   meshes resampled to other densities (OpenMesh)
+//   model/surface_bump.hpp    bumps and spikes of a displacement field over a mesh
 #pragma once
 
 #include "mpeg4face/model/face_model.hpp"      // IWYU pragma: export
@@ -16,4 +17,5 @@
 #include "mpeg4face/model/fapu.hpp"            // IWYU pragma: export
 #include "mpeg4face/model/mesh_cut.hpp"        // IWYU pragma: export
 #include "mpeg4face/model/mesh_resample.hpp"   // IWYU pragma: export
+#include "mpeg4face/model/surface_bump.hpp"    // IWYU pragma: export
 #include "mpeg4face/model/vertex_normals.hpp"  // IWYU pragma: export
