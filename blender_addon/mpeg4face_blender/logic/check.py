@@ -65,26 +65,25 @@ def spikes(result: Result) -> str | None:
             f"{'vertex' if worst_pose['spikes'] == 1 else 'vertices'})")
 
 
-def spike_vertices(result: Result, kind: str, index: int, mesh: int = 0) -> list[int]:
-    """The spike vertices of mesh `mesh` in pose `index` of `kind` (also among its
-    offending_vertices); [] when the pose is not there."""
+def _mesh_vertices(result: Result, kind: str, index: int, mesh: int, field: str) -> list[int]:
+    """`field` of mesh `mesh` in pose `index` of `kind`; [] when the pose is not there (a
+    result from before an edit)."""
     poses = result.get(kind, ())
     if not 0 <= index < len(poses):
         return []
     for motion in poses[index]["meshes"]:
         if motion["mesh"] == mesh:
-            return [int(v) for v in motion["spike_vertices"]]
+            return [int(v) for v in motion[field]]
     return []
+
+
+def spike_vertices(result: Result, kind: str, index: int, mesh: int = 0) -> list[int]:
+    """The spike vertices of mesh `mesh` in pose `index` of `kind` (also among its
+    offending_vertices)."""
+    return _mesh_vertices(result, kind, index, mesh, "spike_vertices")
 
 
 def offending_vertices(result: Result, kind: str, index: int, mesh: int = 0) -> list[int]:
     """The vertices of mesh `mesh` that pose `index` of `kind` stretches, flips, makes
-    intersect or moves as spikes; [] when the pose is not there (a result from before an
-    edit)."""
-    poses = result.get(kind, ())
-    if not 0 <= index < len(poses):
-        return []
-    for motion in poses[index]["meshes"]:
-        if motion["mesh"] == mesh:
-            return [int(v) for v in motion["offending_vertices"]]
-    return []
+    intersect or moves as spikes."""
+    return _mesh_vertices(result, kind, index, mesh, "offending_vertices")
