@@ -3,9 +3,9 @@
 // streams played on them, measured against the neutral. The result is plain dicts and lists
 // with the same keys as `mpeg4face check --json`. And one of its measures on its own: the
 // bumps and spikes of a displacement field over a mesh (model/surface_bump.hpp).
+#include <pybind11/eigen.h>
 #include <pybind11/functional.h>
 
-#include <algorithm>
 #include <functional>
 #include <vector>
 
@@ -48,12 +48,6 @@ py::dict poseDict(const PoseMotion& p) {
              "inner_lip_gap_mns0"_a = optional(p.innerLipGap), "failures"_a = p.failures);
   d["meshes"] = meshes;
   return d;
-}
-
-py::array_t<double> vectorFromCore(const Eigen::VectorXd& v) {
-  py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
-  std::copy(v.data(), v.data() + v.size(), out.mutable_data());
-  return out;
 }
 
 py::dict checkDict(const MotionCheck& c) {
@@ -145,8 +139,8 @@ void bindCheck(py::module_& m) {
           spikes = surfaceSpikes(bump, spikeOfPeak, spikeRatio);
         }
         return py::dict(
-            "bump"_a = vectorFromCore(bump.bump),
-            "local_motion"_a = vectorFromCore(bump.localMotion), "peak"_a = bump.peak,
+            "bump"_a = bump.bump,
+            "local_motion"_a = bump.localMotion, "peak"_a = bump.peak,
             "bump_p99_of_peak"_a = spikes.bumpP99,
             "bump_ratio_max"_a = spikes.localRatioMax,
             "spikes"_a = py::array_t<int32_t>(static_cast<py::ssize_t>(spikes.vertices.size()),

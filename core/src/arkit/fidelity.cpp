@@ -9,6 +9,7 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/evaluate.hpp"
 #include "mpeg4face/model/surface_bump.hpp"
+#include "percentile.hpp"
 
 namespace mpeg4face {
 namespace {
@@ -18,14 +19,6 @@ constexpr double kMovingArea = 0.02;    // of the frame's peak: the vertices com
 constexpr double kNearPoint = 0.05;     // of ES0: "near a feature point"
 constexpr double kSpikeOfPeak = 0.10;
 constexpr double kSpikeOfReference = 3;
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0;
-  const auto at = values.begin() + static_cast<std::ptrdiff_t>(
-                                       std::floor(p * static_cast<double>(values.size() - 1)));
-  std::nth_element(values.begin(), at, values.end());
-  return *at;
-}
 
 // One area mesh: its rings, its area vertices and their rows, and which lie near a point.
 struct AreaMesh {

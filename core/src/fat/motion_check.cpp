@@ -20,6 +20,7 @@
 #include "mpeg4face/model/fapu.hpp"
 #include "mpeg4face/model/surface_bump.hpp"
 #include "mpeg4face/spec.hpp"
+#include "percentile.hpp"
 
 namespace mpeg4face {
 namespace {
@@ -314,10 +315,7 @@ class Checker {
     out.movedEdges = static_cast<int>(ratios.size());
     if (!ratios.empty()) {
       out.edgeRatioMax = *std::max_element(ratios.begin(), ratios.end());
-      const auto at = ratios.begin() +
-                      static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(ratios.size() - 1));
-      std::nth_element(ratios.begin(), at, ratios.end());
-      out.edgeRatioP99 = *at;
+      out.edgeRatioP99 = percentile(ratios, 0.99);
     }
     std::sort(out.stretchedVertices.begin(), out.stretchedVertices.end());
     out.stretchedVertices.erase(

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "mpeg4face/error.hpp"
+#include "percentile.hpp"
 
 namespace mpeg4face {
 
@@ -149,12 +150,7 @@ SurfaceSpikes surfaceSpikes(const SurfaceBump& bump, double bumpOfPeak, double b
     out.localRatioMax = std::max(out.localRatioMax, ratio);
     if (b > bumpOfLocalMotion * bump.localMotion[i]) out.vertices.push_back(static_cast<int>(i));
   }
-  if (!moving.empty()) {
-    const auto at = moving.begin() +
-                    static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(moving.size() - 1));
-    std::nth_element(moving.begin(), at, moving.end());
-    out.bumpP99 = *at;
-  }
+  out.bumpP99 = percentile(moving, 0.99);
   return out;
 }
 
