@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -116,11 +117,15 @@ int runArkitToFap(const std::vector<std::string>& rawArgs) {
   const ArkitCaptureFace face = loadFace(args);
   FapStream stream = arkitCaptureToFaps(capture, face, {args.fps, progress});
   stream.name = std::filesystem::path(args.input).stem().string();
+  // Measured before the stream is written: a face the report cannot measure (no FAP keys)
+  // leaves nothing behind.
+  std::optional<CaptureFidelity> fidelity;
+  if (args.report) fidelity = measureCaptureFidelity(capture, face, stream);
   writeFapFile(args.output, stream);
   std::printf("%s: %d frames at %g fps -> %s: %zu frames at %g fps\n", args.input.c_str(),
               capture.frameCount(), capture.frameRate, args.output.c_str(), stream.frames.size(),
               stream.frameRate);
-  if (args.report) printFidelity(measureCaptureFidelity(capture, face, stream), face);
+  if (fidelity) printFidelity(*fidelity, face);
   return 0;
 }
 

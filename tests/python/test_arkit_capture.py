@@ -184,3 +184,10 @@ def test_cli_reports_the_fidelity(sample, tmp_path):
                           "-o", tmp_path / "capture.fap"], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert "error: mean" in run.stdout and "spike vertices:" in run.stdout, run.stdout
+    # A face without FAP keys has no playback to report on: an error, and nothing written.
+    assert ict_head.main(["--out", str(tmp_path), "--no-keys"]) == 0
+    out = tmp_path / "no_keys.fap"
+    run = subprocess.run([cli, "arkit", "to-fap", CAPTURE, "--face", tmp_path / "ict_head.glb",
+                          "--report", "-o", out], capture_output=True, text=True)
+    assert run.returncode == 1 and "has no FAP keys" in run.stderr, run.stderr
+    assert not out.exists()
