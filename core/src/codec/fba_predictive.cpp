@@ -157,9 +157,11 @@ void PredictiveState::beginIntra(int quant, const std::bitset<kFapCount>& newMas
     rangesSet = true;
   }
   // Blend and intensities (0..63) in levels of fap_quant, rounded as the quantiser rounds 63.
-  const int top = fapQuant != 0 ? (63 + fapQuant / 2) / fapQuant : 63;
+  // A plane at fap_quant 0 keeps the bound an earlier plane set, as the reference decoders
+  // do, so that their streams decode (docs/bitstream.md, "Predictive intra plane: ranges").
+  if (fapQuant != 0) blendTop = (63 + fapQuant / 2) / fapQuant;
   for (size_t k = 0; k < kFields.size(); ++k) {
-    const int max = kFields[k].quantised ? top : kFields[k].maxValue;
+    const int max = kFields[k].quantised ? blendTop : kFields[k].maxValue;
     visemeExpressionIntra[k] = {0, max};
     visemeExpressionInter[k] = {-max, max};
   }

@@ -30,6 +30,7 @@ struct PredictiveState {
   int fapQuant = 1;
   std::bitset<kFapCount> mask;
   bool rangesSet = false;  // the default ranges are set at the first intra plane
+  int blendTop = 63;       // the largest level of blend and intensities (beginIntra)
   std::array<LevelRange, kFapCount> intraRange{}, interRange{};  // FAP 3..68 (index fap - 1)
   std::array<LevelRange, kVisemeExpressionFields> visemeExpressionIntra{}, visemeExpressionInter{};
   // Inter models; an intra plane codes each FAP once between resets, so its symbols are coded

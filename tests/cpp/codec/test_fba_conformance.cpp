@@ -5,7 +5,8 @@
 // default ranges; (b) visual_object_sequence and visual_object headers before fba_object;
 // (c) a PCA stream has its own object start code, and user data after fba_object_start_code
 // is skipped; (d) encode reports clipping; (e) a damaged stream's error says so and names
-// the bit, and names body animation only where fba_paramset_mask reads 2 or 3.
+// the bit, and names body animation only where fba_paramset_mask reads 2 or 3; (f) a plane at
+// fap_quant 0 keeps the blend bound of the plane before it (issue 44).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -356,3 +357,67 @@ TEST(FbaConformance, E_DamageMentionsBodyAnimationOnlyWhenTheMaskSaysSo) {
 }
 
 }  // namespace
+
+// An intra plane sending FAP 1 only (group 1, type 1: FAP 1's bit set, FAP 2's not): the
+// selects and blend level as intra symbols (every count 1) over 0..14 and 0..blendTop, then
+// viseme_def 0, then the always-present low-level segment with no FAP in it.
+void visemePlane(BitWriter& out, int fapQuant, int select1, int select2, int blend,
+                 int blendTop) {
+  startCode(out, 0x000001BB);
+  out.writeBit(true);    // is_intra_frame
+  out.writeBits(1, 2);   // fba_paramset_mask: FAPs
+  out.writeBit(true);    // is_frame_rate
+  out.writeBits(25, 8);  // frame_rate
+  out.writeBits(0, 4);   // seconds
+  out.writeBit(false);   // frequency_offset
+  out.writeBit(false);   // is_time_code
+  out.writeBit(false);   // skip_frames
+  out.writeBits(static_cast<uint32_t>(fapQuant), 5);
+  for (int g = 0; g < 10; ++g) {
+    out.writeBit(true);  // marker_bit
+    out.writeBits(g == 0 ? 1 : 0, 2);
+    if (g == 0) {
+      out.writeBit(true);   // FAP 1
+      out.writeBit(false);  // FAP 2
+    }
+  }
+  out.writeBit(false);                                // suggested_gender
+  out.writeBit(false);                                // coding_type: predictive
+  for (int flag = 0; flag < 4; ++flag) out.writeBit(false);  // no new ranges
+  {
+    ArithmeticEncoder coder(out);
+    coder.encodeUniform(select1, 15);
+    coder.encodeUniform(select2, 15);
+    coder.encodeUniform(blend, blendTop + 1);
+    coder.flush();
+  }
+  out.writeBit(false);  // viseme_def
+  ArithmeticEncoder(out).flush();
+}
+
+// Why 8 of issue 44: a plane at fap_quant 0 after one at 5 codes its blend in 0..13, the bound
+// the plane at 5 set (B = (63 + 2) / 5), as the reference decoders read it; a first plane at
+// fap_quant 0 has 0..63.
+TEST(FbaConformance, F_FapQuantZeroKeepsTheBlendBound) {
+  BitWriter out;
+  out.writeBits(0x000001BA, 32);
+  visemePlane(out, 5, 3, 7, 10, 13);  // blend level 10 at fap_quant 5: 50
+  visemePlane(out, 0, 4, 8, 12, 13);  // blend 12, unquantised, in 0..13
+  startCode(out, 0x000001B1);
+  const FapStream kept = mpeg4face::decodeFba(bytesOf(out));
+  ASSERT_EQ(kept.frames.size(), 2u);
+  EXPECT_EQ(kept.frames[0].viseme.select1, 3);
+  EXPECT_EQ(kept.frames[0].viseme.select2, 7);
+  EXPECT_EQ(kept.frames[0].viseme.blend, 50);
+  EXPECT_EQ(kept.frames[1].viseme.select1, 4);
+  EXPECT_EQ(kept.frames[1].viseme.select2, 8);
+  EXPECT_EQ(kept.frames[1].viseme.blend, 12);
+
+  BitWriter first;
+  first.writeBits(0x000001BA, 32);
+  visemePlane(first, 0, 4, 8, 40, 63);
+  startCode(first, 0x000001B1);
+  const FapStream fresh = mpeg4face::decodeFba(bytesOf(first));
+  ASSERT_EQ(fresh.frames.size(), 1u);
+  EXPECT_EQ(fresh.frames[0].viseme.blend, 40);
+}
