@@ -455,12 +455,9 @@ class PredictiveEncoder {
 
   // Codes a level under the intra range (uniform, see PredictiveState) or the inter range and
   // model; returns it clipped to the range.
-  int codeLevel(ArithmeticEncoder& coder, int64_t level, bool intra, const LevelRange& range,
-                AdaptiveModel& interModel) {
-    if (level < range.min || level > range.max) {
-      ++output_.stats.clippedValues;
-      level = std::clamp<int64_t>(level, range.min, range.max);
-    }
+  static int codeLevel(ArithmeticEncoder& coder, int64_t level, bool intra,
+                       const LevelRange& range, AdaptiveModel& interModel) {
+    level = std::clamp<int64_t>(level, range.min, range.max);
     const auto symbol = static_cast<int>(level - range.min);
     if (intra) {
       coder.encodeUniform(symbol, range.size());
@@ -468,6 +465,21 @@ class PredictiveEncoder {
       coder.encode(symbol, interModel);
     }
     return static_cast<int>(level);
+  }
+
+  // Clipped are the values no range code reaches on the prediction loop without RDO's
+  // choices (`unclipped_`, as the encoder runs at lambda 0): RDO's coarse levels let the
+  // reconstruction lag and a later difference outgrow every range, but that is distortion,
+  // which `encode` reports as such, not a value the syntax cannot code.
+  void countClipped(size_t i, int64_t value, bool intra, int64_t step) {
+    const int64_t prediction = intra ? 0 : unclipped_[i];
+    const int64_t reach = levelsOf(kMaxRangeCode, state_.fapQuant);
+    int64_t level = quantise(value - prediction, step);
+    if (std::llabs(level) > reach) {
+      ++output_.stats.clippedValues;
+      level = std::clamp(level, -reach, reach);
+    }
+    unclipped_[i] = prediction + dequantise(level, step);
   }
 
   // `t`: the frame's index in its group (for the trellis's levels).
@@ -479,10 +491,12 @@ class PredictiveEncoder {
         int64_t& previous = state_.visemeExpressionPrevious[k];
         const int64_t step = kFields[k].quantised ? state_.fapQuant : 0;
         const int64_t prediction = intra ? 0 : previous;
+        const int64_t wanted = quantise(values[k] - prediction, step);
         const int level =
-            codeLevel(coder, quantise(values[k] - prediction, step), intra,
+            codeLevel(coder, wanted, intra,
                       intra ? state_.visemeExpressionIntra[k] : state_.visemeExpressionInter[k],
                       state_.visemeExpressionInterModel[k]);
+        if (level != wanted) ++output_.stats.clippedValues;
         previous = prediction + dequantise(level, step);
       }
       coder.flush();
@@ -502,11 +516,9 @@ class PredictiveEncoder {
       const int64_t step = state_.step(fap);
       const int64_t prediction = intra ? 0 : state_.previous[i];
       const int64_t residual = frame.values[i] - prediction;
+      countClipped(i, frame.values[i], intra, step);
       int64_t wanted = quantise(residual, step);
       if (trellis()) {
-        if (!intra && std::llabs(wanted) > levelsOf(kMaxRangeCode, state_.fapQuant)) {
-          ++output_.stats.clippedValues;
-        }
         wanted = plan_[i].levels[t];
       } else if (!intra && options_.rdoLambda > 0) {
         const LevelRange& range = state_.interRange[i];
@@ -514,11 +526,6 @@ class PredictiveEncoder {
         const auto bits = [&](int64_t l) {  // rdoLevel asks only for levels in the range
           return model.idealBits(static_cast<int>(l - range.min));
         };
-        // Only what no range code reaches counts as clipped: the ranges are RDO's choice too
-        // (shrinkInterRange), so a level they keep out is a decision, not a loss.
-        if (std::llabs(wanted) > levelsOf(kMaxRangeCode, state_.fapQuant)) {
-          ++output_.stats.clippedValues;
-        }
         wanted = rdoLevel(residual, wanted, step, rdo_[i], options_.rdoLambda, range, bits);
       }
       const int level =
@@ -547,6 +554,7 @@ class PredictiveEncoder {
   std::array<RdoFap, kFapCount> rdo_{};        // when rdoLambda > 0
   std::vector<int> histogram_;                 // shrinkInterRange's, kept to spare allocations
   std::array<TrellisLevels, kFapCount> plan_;  // the group's levels, with rdoTrellis
+  std::array<int64_t, kFapCount> unclipped_{};  // countClipped's reconstruction
 };
 
 }  // namespace

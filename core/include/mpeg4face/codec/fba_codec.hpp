@@ -68,7 +68,8 @@ struct FbaEncodeStats {
   int intraFrames = 0;
   // Values whose quantised value or difference lies outside what the syntax can code (range
   // codes are 5 bits: at most 1860 steps of QP * fapQuant) are sent clipped; the prediction
-  // loop catches up on the following frames.
+  // loop catches up on the following frames. Counted as without RDO: a lag RDO's coarse
+  // levels leave is distortion, not clipping.
   int clippedValues = 0;
 };
 
