@@ -42,9 +42,8 @@ void startCode(BitWriter& out, uint32_t code) {  // next_start_code() then the c
 }
 
 // fba_object_plane_start_code and the header of an intra FAP plane at 25 Hz, no time code, no
-// skip; fap_quant, the masks of FAPs 3 and 4 (group 2, type 1: one bit per FAP), gender 0,
-// coding_type 0.
-void intraPlaneStart(BitWriter& out, int fapQuant) {
+// skip, up to fap_quant.
+void intraPlaneHeader(BitWriter& out, int fapQuant) {
   startCode(out, 0x000001BB);
   out.writeBit(true);    // is_intra_frame
   out.writeBits(1, 2);   // fba_paramset_mask: FAPs
@@ -55,6 +54,12 @@ void intraPlaneStart(BitWriter& out, int fapQuant) {
   out.writeBit(false);   // is_time_code
   out.writeBit(false);   // skip_frames
   out.writeBits(static_cast<uint32_t>(fapQuant), 5);
+}
+
+// intraPlaneHeader, then the masks of FAPs 3 and 4 (group 2, type 1: one bit per FAP),
+// gender 0, coding_type 0.
+void intraPlaneStart(BitWriter& out, int fapQuant) {
+  intraPlaneHeader(out, fapQuant);
   for (int g = 0; g < 10; ++g) {
     out.writeBit(true);  // marker_bit
     if (g != 1) {
@@ -363,16 +368,7 @@ TEST(FbaConformance, E_DamageMentionsBodyAnimationOnlyWhenTheMaskSaysSo) {
 // viseme_def 0, then the always-present low-level segment with no FAP in it.
 void visemePlane(BitWriter& out, int fapQuant, int select1, int select2, int blend,
                  int blendTop) {
-  startCode(out, 0x000001BB);
-  out.writeBit(true);    // is_intra_frame
-  out.writeBits(1, 2);   // fba_paramset_mask: FAPs
-  out.writeBit(true);    // is_frame_rate
-  out.writeBits(25, 8);  // frame_rate
-  out.writeBits(0, 4);   // seconds
-  out.writeBit(false);   // frequency_offset
-  out.writeBit(false);   // is_time_code
-  out.writeBit(false);   // skip_frames
-  out.writeBits(static_cast<uint32_t>(fapQuant), 5);
+  intraPlaneHeader(out, fapQuant);
   for (int g = 0; g < 10; ++g) {
     out.writeBit(true);  // marker_bit
     out.writeBits(g == 0 ? 1 : 0, 2);
