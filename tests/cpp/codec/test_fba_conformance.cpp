@@ -361,8 +361,6 @@ TEST(FbaConformance, E_DamageMentionsBodyAnimationOnlyWhenTheMaskSaysSo) {
               flips.size(), maskZero, maskBody);
 }
 
-}  // namespace
-
 // An intra plane sending FAP 1 only (group 1, type 1: FAP 1's bit set, FAP 2's not): the
 // selects and blend level as intra symbols (every count 1) over 0..14 and 0..blendTop, then
 // viseme_def 0, then the always-present low-level segment with no FAP in it.
@@ -417,3 +415,5 @@ TEST(FbaConformance, F_FapQuantZeroKeepsTheBlendBound) {
   ASSERT_EQ(fresh.frames.size(), 1u);
   EXPECT_EQ(fresh.frames[0].viseme.blend, 40);
 }
+
+}  // namespace

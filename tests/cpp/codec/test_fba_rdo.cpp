@@ -117,8 +117,6 @@ TEST(FbaRdo, BadLambda) {
   EXPECT_EQ(r.status, 2) << r.out;
 }
 
-}  // namespace
-
 // Issue 44: RDO's coarse levels let the reconstruction lag, and a later difference can outgrow
 // every range (joy.fap at fap_quant 0, lambda 0.02 reported 36 clipped values, lambda 0 none);
 // that is distortion, not clipping. The nine Xface streams report what lambda 0 does.
@@ -137,3 +135,5 @@ TEST(FbaRdo, ClippedAreWhatNoRangeReachesWithOrWithoutRdo) {
     }
   }
 }
+
+}  // namespace
