@@ -292,6 +292,7 @@ def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
         print(f"clone: {warning}", file=sys.stderr)
     keys = {c["name"]: every_vertex(head, c) for c in cloned["copies"]
             if c["fap"] not in EYEBALL_FAPS}
+    smooth_over(head, "skin", keys, CLONE_SMOOTHING_PASSES)
     lashes_follow_skin(head, keys)
     return keys
 
@@ -305,8 +306,39 @@ def every_vertex(head: mpeg4face.FaceModel, shape: dict) -> list[np.ndarray]:
     return out
 
 
-# Each eyelash vertex moves as the mean of this many skin vertices nearest to it.
-LASH_NEIGHBOURS = 4
+# Passes of umbrella smoothing over the skin given to every cloned key: MakeHuman's surface
+# meets the ICT head's where their shapes differ (its lower lid and outer eye corner land on
+# different parts of the source's lids, its mouth bag and nostrils end the cloned region in a
+# step), so a cloned key bends sharply where the source's is smooth: the lifted cheeks of
+# joy.fap folded the lower lid over the outer eye corner (16 frames), and the capture's
+# playback had spike vertices in every frame (23 in the mouth bag and nostrils; none with 2
+# passes, docs/samples.md).
+CLONE_SMOOTHING_PASSES = 2
+
+
+def smooth_over(head: mpeg4face.FaceModel, mesh: str, keys: Keys, passes: int) -> None:
+    """Each key's motion of `mesh`, each vertex moved halfway to its neighbours' mean
+    `passes` times (once per motion: a unit and its held copy share theirs)."""
+    m = head.find_mesh(mesh)
+    edges = mesh_edges(head.meshes[m])
+    for displacements in {id(d): d for d in keys.values()}.values():
+        d = displacements[m]
+        for _ in range(passes):
+            d = 0.5 * d + 0.5 * neighbour_mean(edges, d)
+        displacements[m] = d
+
+
+# Each eyelash vertex moves as the mean of this many skin vertices nearest to it: with 4, a
+# lifted cheek that moves the lower lid's skin unevenly (its FAP keys shared among siblings by
+# 1/d^2, issue 41) stretched the lower lashes' edges past twice their length in joy.fap; 16
+# (about two rings of the lid's skin) keeps a strip's edges within 1.5 times.
+LASH_NEIGHBOURS = 16
+# Every key's lashes (cloned or MakeHuman's own units) are then smoothed along the lashes in
+# this many passes: MakeHuman's lid units move a strip's inner corner less than its
+# neighbours (0.9 mm against 1.9 mm), and so does the skin of the eye's corner a cloned
+# lash follows: the capture's blinks made spike vertices of both strips' inner corners;
+# with 4 passes none.
+LASH_SMOOTHING_PASSES = 4
 
 
 def lashes_follow_skin(head: mpeg4face.FaceModel, keys: Keys) -> None:
@@ -470,6 +502,7 @@ def main(argv: list[str] | None = None) -> int:
     keys = cloned_keys(clone_source(ict), head)
     replace_with_units(keys, units, mappings)
     hold_units(keys, units, mappings)
+    smooth_over(head, "eyelashes", keys, LASH_SMOOTHING_PASSES)
     head = with_keys(head, keys, poses(head, keys))
     mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
     mpeg4face.write_file_atomically(args.out / "makehuman_units.json", (

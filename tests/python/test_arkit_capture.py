@@ -159,31 +159,76 @@ def test_cli_to_fap_and_back(sample, tmp_path):
     assert not (tmp_path / "bad.fap").exists()
 
 
-def test_fidelity_finds_the_spikes_of_the_playback(sample):
-    """Issue 41's finding, measured: the capture through the ICT head's FAP keys (shared
-    among siblings by 1/sqrt d) stands single vertices at the feature points out of the
-    surface, where the capture through the head's ARKit shapes does not. When the keys are
-    fixed this test turns into the issue's limits (docs/arkit.md, "Fidelity")."""
-    stream = mpeg4face.arkit_capture_to_faps(sample["capture"], sample["face"], fps=25)
-    f = mpeg4face.capture_fidelity(sample["capture"], sample["face"], stream)
+def assert_faithful(fidelity: dict, error_p95: float) -> None:
+    """Issue 41's limits: the FAP playback's bumps within 1.5 times the ARKit playback's at
+    the 99th percentile (over the face and near the feature points), within 2 times at the
+    most, no spike vertex, and the error against the ARKit playback at most 6% mean."""
+    f = fidelity
     print(f"fidelity over {f['frames']} frames: error mean {f['error_mean']:.3f} p95 "
           f"{f['error_p95']:.3f}; bump p99 x{f['bump_p99'] / f['reference_bump_p99']:.2f}, "
           f"near points x{f['point_bump_p99'] / f['reference_point_bump_p99']:.2f}, max "
           f"x{f['bump_max'] / f['reference_bump_max']:.2f}; {len(f['spikes'])} spikes")
     assert f["frames"] >= 100
-    assert f["reference_bump_max"] > 0 and f["bump_max"] > 2 * f["reference_bump_max"]
-    assert len(f["spikes"]) >= 10
-    skin = sample["skin"]
-    lip = {sample["head"].feature_points[p].vertex for p in ("8.2", "2.3", "8.5", "8.6")}
-    assert lip & {v for m, v in f["spikes"] if m == skin}  # the lips' feature points
-    assert 0.05 <= f["error_mean"] <= 0.15
+    assert f["bump_p99"] <= 1.5 * f["reference_bump_p99"]
+    assert f["point_bump_p99"] <= 1.5 * f["reference_point_bump_p99"]
+    assert f["bump_max"] <= 2 * f["reference_bump_max"]
+    assert f["spikes"] == []
+    assert f["error_mean"] <= 0.06
+    assert f["error_p95"] <= error_p95
+
+
+def test_capture_plays_back_without_spikes(sample):
+    """The Live Link capture through the ICT head's FAP keys looks like it does through the
+    head's ARKit shapes (issue 41)."""
+    stream = mpeg4face.arkit_capture_to_faps(sample["capture"], sample["face"], fps=25)
+    assert_faithful(mpeg4face.capture_fidelity(sample["capture"], sample["face"], stream), 0.20)
+
+
+# 15 of ICT's shapes: a face the mapping has not been tuned on, keyed by `arkit keys`.
+FIFTEEN = {"jawOpen", "mouthSmile_L", "mouthSmile_R", "mouthFunnel", "mouthPucker",
+           "mouthRollLower", "mouthShrugUpper", "mouthLowerDown_L", "mouthLowerDown_R",
+           "mouthUpperUp_L", "mouthUpperUp_R", "browDown_L", "browDown_R", "eyeBlink_L",
+           "eyeBlink_R"}
+
+
+def synthetic_capture(face, seconds: float = 6, seed: int = 7):
+    """Smooth weights in 0..1 for the shapes the face has: three sines each, at random
+    frequencies (0.2-1.2 Hz), phases, gains and offsets, clipped; 60 fps."""
+    rng = np.random.default_rng(seed)
+    times = np.arange(0, seconds, 1 / 60)
+    values = np.zeros((len(times), len(CHANNELS)))
+    for k in np.flatnonzero(face.has_shape):
+        freq, phase = rng.uniform(0.2, 1.2, 3), rng.uniform(0, 2 * np.pi, 3)
+        wave = sum(np.sin(2 * np.pi * freq[j] * times + phase[j]) for j in range(3)) / 3
+        values[:, k] = np.clip(rng.uniform(0.3, 0.8) * wave + rng.uniform(-0.1, 0.2), 0, 1)
+    capture = mpeg4face.LiveLinkCapture()
+    capture.channels, capture.times, capture.values, capture.frame_rate = \
+        list(CHANNELS), times, values, 60
+    return capture
+
+
+def test_a_face_with_fifteen_shapes_plays_back_without_spikes(tmp_path):
+    assert ict_head.main(["--out", str(tmp_path), "--no-keys"]) == 0
+    head = mpeg4face.read_gltf(tmp_path / "ict_head.glb")
+    for mesh in head.meshes:
+        mesh.morph_targets = [t for t in mesh.morph_targets if t.name in FIFTEEN]
+        if len(mesh.weights):
+            mesh.weights = [0.0] * len(mesh.morph_targets)
+    head.animations = []
+    keyed = mpeg4face.arkit_fap_keys(head, visemes=False, expressions=False)["head"]
+    face = mpeg4face.prepare_arkit_capture_face(keyed)
+    assert sum(face.has_shape) == 15 and face.from_tables
+    capture = synthetic_capture(face)
+    stream = mpeg4face.arkit_capture_to_faps(capture, face, fps=25)
+    assert_faithful(mpeg4face.capture_fidelity(capture, face, stream), 0.15)
+
 
 def test_cli_reports_the_fidelity(sample, tmp_path):
     cli = Path(mpeg4face.__file__).resolve().parents[2] / "bin/mpeg4face"
     run = subprocess.run([cli, "arkit", "to-fap", CAPTURE, "--face", sample["glb"], "--report",
                           "-o", tmp_path / "capture.fap"], capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
-    assert "error: mean" in run.stdout and "spike vertices:" in run.stdout, run.stdout
+    assert "error: mean" in run.stdout and "spike vertices: 0" in run.stdout, run.stdout
     # A face without FAP keys has no playback to report on: an error, and nothing written.
     assert ict_head.main(["--out", str(tmp_path), "--no-keys"]) == 0
     out = tmp_path / "no_keys.fap"

@@ -253,7 +253,9 @@ def test_fap_keys_hold_past_their_siblings_reach(built):
         return evaluator.evaluate(stream, 0)["coord"][skin] - neutral
 
     at_reach, far = lip_motion(reach), lip_motion(3 * reach)
-    np.testing.assert_allclose(far, at_reach, atol=1e-9)
+    # The same within the .glb's float32 rounding of the six keys summed.
+    np.testing.assert_allclose(far, at_reach, atol=8 * np.finfo(np.float32).eps *
+                               np.abs(at_reach).max())
     halfway = lip_motion(reach // 2)
     assert np.linalg.norm(halfway) == pytest.approx(np.linalg.norm(at_reach) / 2, rel=0.01)
     # At the reach every lower-lip point has moved down by it, within the keys' 15%.

@@ -2,9 +2,11 @@
 #include "mpeg4face/arkit/capture.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -14,12 +16,70 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/evaluate.hpp"
 #include "mpeg4face/fat/names.hpp"
+#include "mpeg4face/model/surface_bump.hpp"
 #include "mpeg4face/spec.hpp"
 
 namespace mpeg4face {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// How much the capture's fit weighs the Laplacian of the motion against the motion: a
+// vertex's Laplacian is a few percent of a smooth motion, so at 1000 the two terms weigh
+// alike on a smooth face and a spike costs a thousand times its error. Chosen by
+// measurement on the ICT head and the Live Link capture (docs/arkit.md, "Smooth keys").
+constexpr double kSurfaceWeight = 1000;
+
+// The umbrella Laplacian over the face area: each area vertex's motion minus the mean of
+// its one-ring's (vertices outside the area do not move). Applied to columns of 3 rows per
+// area vertex.
+class AreaLaplacian {
+ public:
+  AreaLaplacian(const FaceModel& head, const std::vector<std::pair<int, int>>& area,
+                const std::vector<std::vector<int>>& areaRow) {
+    std::vector<Eigen::Triplet<double>> entries;
+    std::map<int, WeldedRings> rings;
+    std::map<int, std::vector<int>> vertexOf;  // per welded vertex: one of its copies
+    for (std::size_t r = 0; r < area.size(); ++r) {
+      const auto [mesh, vertex] = area[r];
+      auto [it, made] = rings.try_emplace(mesh);
+      std::vector<int>& copy = vertexOf[mesh];
+      if (made) {
+        it->second = weldedRings(head.meshes[static_cast<std::size_t>(mesh)]);
+        copy.resize(it->second.copies.size());
+        for (std::size_t v = it->second.weld.size(); v-- > 0;)
+          copy[static_cast<std::size_t>(it->second.weld[v])] = static_cast<int>(v);
+      }
+      const WeldedRings& ring = it->second;
+      const auto w = static_cast<std::size_t>(ring.weld[static_cast<std::size_t>(vertex)]);
+      const int begin = ring.offset[w], end = ring.offset[w + 1];
+      if (begin == end) continue;
+      const auto row = static_cast<int>(r);
+      entries.emplace_back(row, row, 1.0);
+      for (int j = begin; j < end; ++j) {
+        const auto ringVertex =
+            static_cast<std::size_t>(ring.neighbour[static_cast<std::size_t>(j)]);
+        const auto neighbour = static_cast<std::size_t>(copy[ringVertex]);
+        const int column = areaRow[static_cast<std::size_t>(mesh)][neighbour];
+        if (column >= 0) entries.emplace_back(row, column, -1.0 / (end - begin));
+      }
+    }
+    const auto n = static_cast<Eigen::Index>(area.size());
+    operator_.resize(n, n);
+    operator_.setFromTriplets(entries.begin(), entries.end());
+  }
+  Eigen::MatrixXd apply(const Eigen::MatrixXd& columns) const {
+    Eigen::MatrixXd out(columns.rows(), columns.cols());
+    for (Eigen::Index c = 0; c < columns.cols(); ++c) {
+      const auto xyz = columns.col(c).reshaped<Eigen::RowMajor>(operator_.rows(), 3);
+      out.col(c).reshaped<Eigen::RowMajor>(operator_.rows(), 3) = operator_ * xyz;
+    }
+    return out;
+  }
+
+ private:
+  Eigen::SparseMatrix<double, Eigen::RowMajor> operator_;
+};
 
 // FAPs a capture's angles give, never fitted to the face area's motion.
 bool isAngleFap(int fap) { return (fap >= 23 && fap <= 26) || (fap >= 48 && fap <= 50); }
@@ -405,12 +465,6 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
     throw Error({}, 0, "FAP keys", "none of the face's FAP tables moves its face area");
   }
 
-  // A small ridge keeps the normal equations definite and, where a FAP's two sides mirror
-  // each other, prefers one side to both.
-  out.fapGram = out.fapMotion.transpose() * out.fapMotion;
-  out.fapGram.diagonal().array() += 1e-6 * out.fapGram.diagonal().mean();
-  out.fapRhs = out.fapMotion.transpose() * out.shapeMotion;
-  out.angleRhs = out.fapMotion.transpose() * angleMotion;
   const int jaw = jawOpenChannel();
   for (std::size_t c = 0; c < out.columnFap.size(); ++c) {
     const auto col = static_cast<Eigen::Index>(c);
@@ -418,8 +472,27 @@ ArkitCaptureFace prepareArkitCaptureFace(const FaceModel& head) {
         !out.hasShape[static_cast<std::size_t>(jaw)])
       continue;
     out.jawColumn = static_cast<int>(c);
-    out.jawPerWeight = std::max(0.0, out.fapRhs(col, jaw) / out.fapMotion.col(col).squaredNorm());
+    out.jawPerWeight = std::max(0.0, out.fapMotion.col(col).dot(out.shapeMotion.col(jaw)) /
+                                         out.fapMotion.col(col).squaredNorm());
   }
+  // The fit weighs the motion and, kSurfaceWeight times, its umbrella Laplacian (each
+  // vertex against its one-ring): a combination of keys that matches the motion on the
+  // whole but leaves single vertices out of the surface (a feature point's vertex pushed
+  // where its neighbours are not) costs what it looks like. A small ridge keeps the normal
+  // equations definite and, where a FAP's two sides mirror each other, prefers one side to
+  // both.
+  // Without tables each FAP moves its feature point alone: there is no surface to keep.
+  out.fapGram = out.fapMotion.transpose() * out.fapMotion;
+  out.fapRhs = out.fapMotion.transpose() * out.shapeMotion;
+  out.angleRhs = out.fapMotion.transpose() * angleMotion;
+  if (out.fromTables) {
+    const AreaLaplacian laplacian(head, out.area, areaRow);
+    const Eigen::MatrixXd fapBend = kSurfaceWeight * laplacian.apply(out.fapMotion);
+    out.fapGram += fapBend.transpose() * laplacian.apply(out.fapMotion);
+    out.fapRhs += fapBend.transpose() * laplacian.apply(out.shapeMotion);
+    out.angleRhs += fapBend.transpose() * laplacian.apply(angleMotion);
+  }
+  out.fapGram.diagonal().array() += 1e-6 * out.fapGram.diagonal().mean();
   // FAP -> ARKit compares motion where the FAPs have any: everywhere with tables, at the
   // feature points without.
   Eigen::MatrixXd compared = out.shapeMotion;

@@ -107,6 +107,10 @@ constexpr std::array<std::array<int, 6>, 11> kSiblingFaps{{
     {61, 62},
 }};
 
+}  // namespace
+
+namespace arkit {
+
 std::span<const int> siblingFaps(int fap) {
   for (const auto& group : kSiblingFaps) {
     const auto end = std::find(group.begin(), group.end(), 0);
@@ -115,11 +119,28 @@ std::span<const int> siblingFaps(int fap) {
   return {};
 }
 
+Points3 jawOpenCoord(const FaceModel& head, const ArkitShapes& shapes, int mesh) {
+  const IndexedFaceSet& geometry = head.meshes[static_cast<std::size_t>(mesh)];
+  Points3 coord = geometry.coord;
+  if (const std::optional<int> jawOpen = shapes.find({arkitShapeIndex("jawOpen")->shape})) {
+    for (const ArkitTarget& t : shapes.shapes[static_cast<std::size_t>(*jawOpen)].targets) {
+      if (t.mesh == mesh)
+        coord += geometry.morphTargets[static_cast<std::size_t>(t.target)].displacements;
+    }
+  }
+  return coord;
+}
+
+}  // namespace arkit
+
+namespace {
+
 // The powers of the partitions: inverse-square over the area gives the viseme and expression
-// keys each FAP's own motion; among siblings the much gentler 1/sqrt(distance) keeps the keys
-// written broad enough for the capture solver to fit ARKit's shapes with (docs/arkit.md).
+// keys each FAP's own motion; among siblings too, where a gentler fall-off (1/sqrt d, used
+// before) has a cusp at each point that a capture's unlike sibling values stood out of the
+// lips (issue 41; docs/arkit.md, "Localised keys").
 constexpr double kAreaPower = 2.0;
-constexpr double kSiblingPower = 0.5;
+constexpr double kSiblingPower = 2.0;
 
 // A FAP key is made of ARKit shapes at weights up to 1, some at 1: sculpted no further. Its
 // table is linear to kKeyReach times the amplitude and held there (a copy at twice that with
@@ -145,7 +166,7 @@ std::vector<int> holdAtReach(ArkitMapping& mapping) {
   std::vector<int> reach;
   for (const ArkitFapKey& key : mapping.keys) {
     int r = held(key) ? own(key) : 0;
-    const std::span<const int> group = siblingFaps(key.fap);
+    const std::span<const int> group = arkit::siblingFaps(key.fap);
     for (const ArkitFapKey& other : mapping.keys) {
       if (r != 0 && other.amplitude * key.amplitude > 0 &&
           std::find(group.begin(), group.end(), other.fap) != group.end() &&
@@ -178,23 +199,26 @@ std::vector<int> areaFaps() {
 // each vertex, 1 at its own vertex and 0 at every other of the points, inverse-distance
 // weighted between (1/d^power). The shares add to 1 everywhere, so the FAPs' keys sent at
 // one value move the area as the shapes do, and each key alone moves its own point and
-// leaves the others where they were.
+// leaves the others where they were. Distances are taken on the face with its jaw open
+// (`coord`): with the mouth closed the inner lips touch, and a lower-lip vertex would take
+// an upper-lip point's share (a notch in the lip at 2.3 when FAPs 16 and 17 differ).
 class FeaturePointShares {
  public:
-  FeaturePointShares(const FaceModel& head, int mesh, std::span<const int> faps, double power)
-      : mesh_(head.meshes[static_cast<std::size_t>(mesh)]), power_(power) {
+  FeaturePointShares(const FaceModel& head, int mesh, const Points3& coord,
+                     std::span<const int> faps, double power)
+      : coord_(coord), power_(power) {
     for (int fap : faps) {
       const std::string id(fapInfo(fap).featurePoint);
       const auto it = head.featurePoints.find(id);
       if (it == head.featurePoints.end() || it->second.mesh != mesh || it->second.vertex < 0 ||
-          it->second.vertex >= mesh_.vertexCount() || index_.contains(id)) {
+          it->second.vertex >= coord_.rows() || index_.contains(id)) {
         continue;
       }
       index_[id] = points_.size();
-      points_.push_back(mesh_.coord.row(it->second.vertex));
+      points_.push_back(coord_.row(it->second.vertex));
     }
-    total_.resize(static_cast<std::size_t>(mesh_.vertexCount()));
-    for (int v = 0; v < mesh_.vertexCount(); ++v) {
+    total_.resize(static_cast<std::size_t>(coord_.rows()));
+    for (Eigen::Index v = 0; v < coord_.rows(); ++v) {
       double sum = 0;
       for (std::size_t p = 0; p < points_.size(); ++p) sum += weight(v, p);
       total_[static_cast<std::size_t>(v)] = sum;
@@ -204,7 +228,7 @@ class FeaturePointShares {
   void localise(int fap, Points3& d) const {
     const auto it = index_.find(std::string(fapInfo(fap).featurePoint));
     if (it == index_.end()) return;
-    for (int v = 0; v < mesh_.vertexCount(); ++v) {
+    for (Eigen::Index v = 0; v < coord_.rows(); ++v) {
       if (d.row(v).isZero()) continue;
       const double w = weight(v, it->second);
       const double total = total_[static_cast<std::size_t>(v)];
@@ -214,11 +238,11 @@ class FeaturePointShares {
   }
 
  private:
-  double weight(int v, std::size_t p) const {
-    const double d2 = (mesh_.coord.row(v) - points_[p]).squaredNorm();
+  double weight(Eigen::Index v, std::size_t p) const {
+    const double d2 = (coord_.row(v) - points_[p]).squaredNorm();
     return d2 == 0 ? std::numeric_limits<double>::infinity() : std::pow(d2, -power_ / 2);
   }
-  const IndexedFaceSet& mesh_;
+  const Points3& coord_;
   double power_;
   std::map<std::string, std::size_t, std::less<>> index_;
   std::vector<Eigen::RowVector3d> points_;
@@ -395,24 +419,36 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
   // Shares per mesh and FAP set, made once: keyed by the set's storage (`area` or a group of
   // kSiblingFaps).
   std::map<std::pair<int, const int*>, FeaturePointShares> shares;
+  // Siblings share on the face with its jaw open (FeaturePointShares); the area's shares,
+  // which only the viseme and expression keys are evaluated through, on the neutral.
+  std::map<int, Points3> opened;
   const auto sharesOf = [&](int mesh, std::span<const int> faps,
                             double power) -> const FeaturePointShares& {
     const auto key = std::make_pair(mesh, faps.data());
     auto it = shares.find(key);
-    if (it == shares.end()) it = shares.try_emplace(key, out.head, mesh, faps, power).first;
-    return it->second;
+    if (it != shares.end()) return it->second;
+    const IndexedFaceSet& geometry = out.head.meshes[static_cast<std::size_t>(mesh)];
+    auto coord = opened.find(mesh);
+    if (coord == opened.end())
+      coord = opened.emplace(mesh, arkit::jawOpenCoord(out.head, out.shapes, mesh)).first;
+    const Points3& at = faps.data() == area.data() ? geometry.coord : coord->second;
+    return shares.try_emplace(key, out.head, mesh, at, faps, power).first->second;
   };
+  // Each key's motion per mesh: its shapes at their weights, on the mesh of its point shared
+  // over the area (for the viseme and expression keys) and among its sibling FAPs (for the
+  // key written), then refitted so that keys sent together combine as the shapes do.
+  std::vector<std::map<int, Points3>> keyMotion(out.mapping.keys.size());
   for (std::size_t k = 0; k < out.mapping.keys.size(); ++k) {
     const ArkitFapKey& key = out.mapping.keys[k];
-    const std::string label(fapInfo(key.fap).name);
-    const std::string name = formatShapeKeyName({key.fap, 0, key.amplitude, label});
+    const std::string name =
+        formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)});
     // An eyeball turn: the eye's Transform turns; the shape still moves the lids.
     std::vector<int> turned;
     if (key.transform >= 0) {
       poses.push_back({name, {}, {rotationChannel(key.transform, key.rotation)}});
       turned = out.head.transforms[static_cast<std::size_t>(key.transform)].meshes;
     }
-    std::map<int, Points3> meshes;
+    std::map<int, Points3>& meshes = keyMotion[k];
     for (const auto& [shape, weight] : key.weights) {
       for (const ArkitTarget& t : out.shapes.shapes[static_cast<std::size_t>(shape)].targets) {
         if (std::find(turned.begin(), turned.end(), t.mesh) != turned.end()) continue;
@@ -421,8 +457,6 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
         it->second += weight * mesh.morphTargets[static_cast<std::size_t>(t.target)].displacements;
       }
     }
-    // On the mesh of the key's point: the key shared over the area for the viseme and
-    // expression keys, and among its sibling FAPs for the key written.
     const auto binding = out.head.featurePoints.find(std::string(fapInfo(key.fap).featurePoint));
     const int pointMesh = binding == out.head.featurePoints.end() ? -1 : binding->second.mesh;
     for (auto& [m, d] : meshes) {
@@ -432,8 +466,16 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
         localisedAdded[static_cast<std::size_t>(m)].push_back({name, std::move(local)});
       }
       if (m == pointMesh) {
-        sharesOf(m, siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
+        sharesOf(m, arkit::siblingFaps(key.fap), kSiblingPower).localise(key.fap, d);
       }
+    }
+  }
+  arkit::fitKeysToShapeCombinations(out.head, out.shapes, fapu, out.mapping, keyMotion);
+  for (std::size_t k = 0; k < out.mapping.keys.size(); ++k) {
+    const ArkitFapKey& key = out.mapping.keys[k];
+    const std::string label(fapInfo(key.fap).name);
+    const std::string name = formatShapeKeyName({key.fap, 0, key.amplitude, label});
+    for (auto& [m, d] : keyMotion[k]) {
       auto& keys = added[static_cast<std::size_t>(m)];
       if (reach[k] == 0) {
         keys.push_back({name, std::move(d)});
