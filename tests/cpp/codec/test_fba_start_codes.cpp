@@ -204,3 +204,17 @@ TEST(FbaStartCodes, Why2HiddenPlaneIsAvoided) {
   EXPECT_EQ(strict.frames.size() + static_cast<size_t>(dropped),
             encoding.reconstruction.frames.size());
 }
+
+// Step 3 of the encoder's checks: an inter plane that a plane start code after or before it
+// cannot make safe ends its group, and its frame starts the next with an intra plane. This
+// stream (tests/data/start-codes/README.md) has one at an intra period of 18: five intra
+// planes where the period and its one mask ask for four.
+TEST(FbaStartCodes, AGroupEndsWhereNoStartCodeHelps) {
+  const FapStream stream = mpeg4face::readFapFile(mpeg4face::test::kData /
+                                                  "start-codes/group-ends-early.fap");
+  ASSERT_EQ(stream.frames.size(), 63u);
+  const auto encoding =
+      mpeg4face::encodeFba(stream, {.fapQuant = 0, .intraPeriod = 18, .rdoLambda = 5e-3});
+  EXPECT_EQ(encoding.stats.intraFrames, 5);
+  EXPECT_EQ(mpeg4face::test::decodeBothWays(encoding.bytes), encoding.reconstruction);
+}
