@@ -292,7 +292,9 @@ def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
         print(f"clone: {warning}", file=sys.stderr)
     keys = {c["name"]: every_vertex(head, c) for c in cloned["copies"]
             if c["fap"] not in EYEBALL_FAPS}
-    smooth_over(head, "skin", keys, CLONE_SMOOTHING_PASSES)
+    smooth_over(head, "skin", {n: d for n, d in keys.items()
+                               if mpeg4face.parse_shape_key_name(n)["fap"] > 2},
+                CLONE_SMOOTHING_PASSES)
     lashes_follow_skin(head, keys)
     return keys
 
@@ -306,13 +308,14 @@ def every_vertex(head: mpeg4face.FaceModel, shape: dict) -> list[np.ndarray]:
     return out
 
 
-# Passes of umbrella smoothing over the skin given to every cloned key: MakeHuman's surface
-# meets the ICT head's where their shapes differ (its lower lid and outer eye corner land on
-# different parts of the source's lids, its mouth bag and nostrils end the cloned region in a
-# step), so a cloned key bends sharply where the source's is smooth: the lifted cheeks of
-# joy.fap folded the lower lid over the outer eye corner (16 frames), and the capture's
-# playback had spike vertices in every frame (23 in the mouth bag and nostrils; none with 2
-# passes, docs/samples.md).
+# Passes of umbrella smoothing over the skin given to every cloned low-level key. MakeHuman's
+# surface meets the ICT head's where their shapes differ (its lower lid and outer eye corner
+# land on different parts of the source's lids, its mouth bag and nostrils end the cloned
+# region in a step), so a cloned key bends sharply where the source's is smooth: the lifted
+# cheeks of joy.fap folded the lower lid over the outer eye corner (16 frames), and the
+# capture's playback had spike vertices in every frame (23 in the mouth bag and nostrils; none
+# with 2 passes, docs/samples.md). The viseme and expression keys, made of ARKit shapes and
+# not refitted, need none: smoothed, their open mouths opened less.
 CLONE_SMOOTHING_PASSES = 2
 
 
