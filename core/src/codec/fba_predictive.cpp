@@ -10,6 +10,7 @@
 #include <string>
 
 #include "codec/fba_trellis.hpp"
+#include "codec/start_code_guard.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/spec.hpp"
 
@@ -386,52 +387,16 @@ class PredictiveEncoder {
     return {seconds / 3600 % 32, seconds / 60 % 60, seconds % 60};
   }
 
-  // Where writeStartCode(), called at `position`, puts the code: after a 0 and 1s to the
-  // byte boundary, or a whole 0111 1111 byte when aligned.
-  static uint64_t codeAfter(uint64_t position) { return (position | 7) + 1; }
-
-  // Whether a standard decoder misreads plane j (docs/bitstream.md, "Start codes the encoder
-  // never emulates"): a byte-aligned 0x000001 that is no start code, where a run of zeros
-  // reaches across fields and segments (each segment's stuffing counts only its own zeros);
-  // or, for a plane without a start code, 23 zero bits where nextbits_bytealigned() looks
-  // from its first bit, which would take the plane for stuffing before a start code. The
-  // bits after the plane are out_'s, or, if `codeFollows` and none are written yet, the start
-  // code that will follow.
+  // Whether a standard decoder misreads plane j (codec/start_code_guard.hpp); the bits after
+  // it are out_'s, or, if `codeFollows` and none are written yet, the start code to follow.
   bool violates(size_t j, bool codeFollows) const {
-    const PlaneSpan& s = planes_[j];
-    const uint64_t from = s.start >= 24 ? (s.start - 24) & ~uint64_t{7} : 0;
-    bits_.clear();
-    for (uint64_t x = from; x < std::min(out_.bitCount(), s.end + 64); ++x) {
-      bits_.push_back(out_.bitAt(x));
-    }
-    std::vector<uint64_t>& codes = codes_;
-    codes.clear();
+    codes_.clear();
     for (const PlaneSpan& p : planes_) {
-      if (p.startCode) codes.push_back(codeAfter(p.start));
+      if (p.startCode) codes_.push_back(startCodeAfter(p.start));
     }
-    if (codeFollows && s.end == out_.bitCount()) {
-      const uint64_t at = codeAfter(s.end);
-      bits_.push_back(false);
-      while (from + bits_.size() < at) bits_.push_back(true);
-      bits_.insert(bits_.end(), 23, false);
-      bits_.insert(bits_.end(), 2, true);  // 0x000001 and the first bit of 0xBB or 0xB1
-      codes.push_back(at);
-    }
-    const uint64_t known = from + bits_.size();
-    const auto zeros = [&](uint64_t x) {  // 23 zero bits at x, as far as they are known
-      for (uint64_t i = x; i < std::min(x + 23, known); ++i) {
-        if (bits_[i - from]) return false;
-      }
-      return true;
-    };
-    // The prefixes whose 1 lies in the plane or after it (those before are the previous
-    // plane's, or a header's outside this mode).
-    for (uint64_t b = from; b < s.end && b + 24 <= known; b += 8) {
-      if (b + 23 < s.start || !zeros(b) || !bits_[b + 23 - from]) continue;
-      if (std::find(codes.begin(), codes.end(), b) == codes.end()) return true;
-    }
-    // An inter plane starts with a 0 bit, so nextbits_bytealigned() skips no stuffing byte.
-    return !s.startCode && zeros((s.start + 7) & ~uint64_t{7});
+    const PlaneSpan& s = planes_[j];
+    return misreadByStandardDecoder(out_, {s.start, s.end, s.startCode}, codes_, codeFollows,
+                                    bits_);
   }
 
   // Makes plane j safe (violates() false), given that a start code follows it if
@@ -739,7 +704,7 @@ class PredictiveEncoder {
   std::vector<PlaneSpan> planes_;               // the group's planes
   KeptRanges kept_;                             // the ranges before the group's intra plane
   int widen_ = 0;  // chooseRanges sends i_new_max this much wider (an intra plane's attempt)
-  mutable std::vector<bool> bits_;      // violates()'s, kept to spare allocations
+  mutable std::vector<bool> bits_;  // violates()'s, kept to spare allocations
   mutable std::vector<uint64_t> codes_;
 };
 
