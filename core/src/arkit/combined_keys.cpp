@@ -250,12 +250,13 @@ void fitKeysToShapeCombinations(const FaceModel& head, const ArkitShapes& shapes
     Eigen::MatrixXd k = solver.solve(rhs.transpose()).transpose();
     // Vertices near a sibling's point: the same fit with that key's prior held harder.
     const auto& held = holds[m];
+    const Points3& at = opened.at(m);
     for (int v = 0; v < mesh.vertexCount(); ++v) {
       Eigen::VectorXd extra = Eigen::VectorXd::Zero(nc);
       for (Eigen::Index c = 0; c < nc; ++c) {
         double near = 0;
         for (const auto& [centre, inverse] : held[static_cast<std::size_t>(c)])
-          near += std::exp(-(opened.at(m).row(v) - centre).squaredNorm() * inverse);
+          near += std::exp(-(at.row(v) - centre).squaredNorm() * inverse);
         extra[c] = kSiblingPointHold * near * prior[c];
       }
       if (extra.maxCoeff() <= 1e-3 * prior.minCoeff()) continue;
