@@ -287,12 +287,17 @@ void bindCodec(py::module_& m) {
       "RDO quantisation of predictive values (docs/rate-distortion.md).");
   m.def(
       "decode_fba",
-      [](const py::bytes& data, const std::string& source) {
+      [](const py::bytes& data, const std::string& source, bool strict) {
         const std::string bytes = data;
         py::gil_scoped_release release;
-        return decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, source);
+        FbaDecodeLimits limits;
+        limits.strict = strict;
+        return decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, source,
+                         limits);
       },
-      "data"_a, "source"_a = "", "Decodes an FBA bitstream; errors name `source`.");
+      "data"_a, "source"_a = "", "strict"_a = false,
+      "Decodes an FBA bitstream; errors name `source`. strict: read as 14496-2's syntax "
+      "reads, as a standard decoder does (docs/bitstream.md, \"Strict decoding\").");
   m.def(
       "psnr",
       [](const FapStream& original, const FapStream& decoded) {

@@ -10,13 +10,17 @@
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fit/fit.hpp"
 #include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/files.hpp"
 
 namespace mpeg4face::cli {
 
 int runDecode(const std::vector<std::string>& args) {
   std::string input, output, fit;
+  bool strict = false;
   for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "-o") {
+    if (args[i] == "--strict") {
+      strict = true;
+    } else if (args[i] == "-o") {
       output = optionValue(args, i, "an output file");
     } else if (args[i] == "--fit") {
       fit = optionValue(args, i, "a FAP Interpolation Table (.json)");
@@ -33,7 +37,17 @@ int runDecode(const std::vector<std::string>& args) {
 
   const std::optional<FitTable> table =
       fit.empty() ? std::nullopt : std::optional(readFitTableFile(fit));
-  FapStream stream = readFbaFile(input);
+  FapStream stream;
+  if (strict) {
+    const std::string bytes = readFile(input);
+    FbaDecodeLimits limits;
+    limits.strict = true;
+    stream = decodeFba({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, input,
+                       limits);
+    stream.name = std::filesystem::path(input).stem().string();
+  } else {
+    stream = readFbaFile(input);
+  }
   if (table) {
     try {
       const int computed = interpolateFitStream(*table, stream);

@@ -66,8 +66,11 @@ constexpr std::array kCommands{
             "  --json  print one JSON object (keys bits, bits_per_second, psnr_db, ...)\n",
             mpeg4face::cli::runEncode},
     Command{"decode", "decode an MPEG-4 FBA bitstream to a .fap stream",
-            "mpeg4face decode IN.fba [--fit TABLE.json] -o OUT.fap\n"
-            "  --fit T  fill the FAPs a frame lacks with FAP Interpolation Table T\n",
+            "mpeg4face decode IN.fba [--fit TABLE.json] [--strict] -o OUT.fap\n"
+            "  --fit T  fill the FAPs a frame lacks with FAP Interpolation Table T\n"
+            "  --strict  read as 14496-2's syntax reads, as a standard decoder does: start\n"
+            "            codes wherever nextbits_bytealigned() sees them, and a byte-aligned\n"
+            "            0x000001 that is no start code is an error (docs/bitstream.md)\n",
             mpeg4face::cli::runDecode},
     Command{"rd", "rate-distortion of a .fap stream: every mode and fap_quant, CSV and plot",
             "mpeg4face rd IN.fap --csv OUT.csv [--plot OUT.png] [--quality robust|tao]\n"

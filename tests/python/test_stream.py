@@ -117,6 +117,8 @@ def test_lossless_and_errors(joy, data_dir):
     rdo = mpeg4face.encode_fba(joy, fap_quant=2, rdo_lambda=2e-3)
     assert rdo.bits < mpeg4face.encode_fba(joy, fap_quant=2).bits
     assert mpeg4face.decode_fba(rdo.data) == rdo.reconstruction
+    # As a standard decoder reads it (issue 44): the same.
+    assert mpeg4face.decode_fba(rdo.data, strict=True) == rdo.reconstruction
     with pytest.raises(ValueError, match="unknown mode 'zip'"):
         mpeg4face.encode_fba(joy, mode="zip")
     with pytest.raises(mpeg4face.Error) as e:

@@ -17,6 +17,23 @@ void BitWriter::writeStartCode(uint32_t code) {
   writeBits(code, 32);
 }
 
+void BitWriter::truncate(uint64_t count) {
+  bitCount_ = count;
+  bytes_.resize(static_cast<size_t>((count + 7) / 8));
+  // The dropped bits of a partial last byte go back to 0, as writeBits expects them.
+  if (count & 7) bytes_.back() &= static_cast<uint8_t>(0xFF00 >> (count & 7));
+}
+
+BitWriter BitWriter::slice(uint64_t from, uint64_t to) const {
+  BitWriter out;
+  for (uint64_t i = from; i < to; ++i) out.writeBit(bitAt(i));
+  return out;
+}
+
+void BitWriter::append(const BitWriter& bits) {
+  for (uint64_t i = 0; i < bits.bitCount_; ++i) writeBit(bits.bitAt(i));
+}
+
 BitReader::BitReader(std::span<const uint8_t> data, std::string source)
     : data_(data), source_(std::move(source)), size_(uint64_t{data.size()} * 8) {}
 
@@ -52,7 +69,14 @@ void BitReader::readStartCode(uint32_t code, std::string_view element) {
     std::snprintf(hex, sizeof hex, "0x%08X", code);
     fail(element, std::string("expected next_start_code() stuffing and the start code ") + hex);
   }
-  position_ += 8 - (position_ & 7) + 32;
+  position_ += 8 - (position_ & 7);
+  noteStartCode(position_);
+  position_ += 32;
+}
+
+uint64_t BitReader::nextBytealigned() const {
+  if (position_ & 7) return (position_ | 7) + 1;
+  return bitsAtOrZero(position_, 8) == 0x7F && position_ + 8 <= size_ ? position_ + 8 : position_;
 }
 
 void BitReader::fail(std::string_view element, const std::string& message) const {

@@ -47,6 +47,14 @@ class BitWriter {
   void writeStartCode(uint32_t code);
 
   uint64_t bitCount() const { return bitCount_; }
+  bool bitAt(uint64_t position) const {
+    return (bytes_[position >> 3] >> (7 - (position & 7))) & 1;
+  }
+  // Drops the bits from `count` on (count <= bitCount()), so an encoder can write a part again.
+  void truncate(uint64_t count);
+  // The bits [from, to), as a writer of their own (append() puts them back).
+  BitWriter slice(uint64_t from, uint64_t to) const;
+  void append(const BitWriter& bits);
   // The bytes written so far; a partial last byte is padded with 0 bits.
   const std::vector<uint8_t>& bytes() const { return bytes_; }
   std::vector<uint8_t> take() { return std::move(bytes_); }
@@ -73,20 +81,7 @@ class BitReader {
     return bit;
   }
   // The next `count` bits (0..32) without moving, 0 bits past the end; skip() moves on.
-  uint32_t peekBitsOrZero(int count) const {
-    if (count == 0) return 0;
-    const uint64_t byte = position_ >> 3;
-    uint64_t window = 0;  // 40 bits from `byte` on: room for 32 bits at any bit offset
-    if (position_ < size_ && byte + 5 <= data_.size()) {
-      for (uint64_t i = 0; i < 5; ++i) window = (window << 8) | data_[byte + i];
-    } else {
-      for (uint64_t i = 0; i < 5; ++i)
-        window =
-            (window << 8) | (position_ < size_ && byte + i < data_.size() ? data_[byte + i] : 0);
-    }
-    const int shift = 40 - static_cast<int>(position_ & 7) - count;
-    return static_cast<uint32_t>((window >> shift) & ((uint64_t{1} << count) - 1));
-  }
+  uint32_t peekBitsOrZero(int count) const { return bitsAtOrZero(position_, count); }
   void skip(int count) { position_ += static_cast<uint64_t>(count); }
 
   uint64_t position() const { return position_; }  // in bits from the start
@@ -100,6 +95,22 @@ class BitReader {
   // Reads the stuffing and `code`; throws naming `element` if they are not there.
   void readStartCode(uint32_t code, std::string_view element);
 
+  // Where 14496-2's nextbits_bytealigned() looks from here: the next byte boundary, or this
+  // one if aligned, past a 0111 1111 byte (next_start_code() stuffing) if one is there.
+  uint64_t nextBytealigned() const;
+  // The `count` bits (0..32) at `position`, 0 bits past the end.
+  uint32_t bitsAtOrZero(uint64_t position, int count) const;
+  // True if the 23 bits at `position` are in the data and all 0: a start code prefix to a
+  // standard decoder's nextbits_bytealigned() == '000 0000 0000 0000 0000 0000'.
+  bool startCodePrefixAt(uint64_t position) const {
+    return position + 23 <= size_ && bitsAtOrZero(position, 23) == 0;
+  }
+  // The positions of the start codes read (readStartCode and noteStartCode), in order; a
+  // strict decoder checks that the data holds no other byte-aligned 0x000001.
+  void noteStartCode(uint64_t position) { startCodes_.push_back(position); }
+  const std::vector<uint64_t>& startCodes() const { return startCodes_; }
+  std::span<const uint8_t> data() const { return data_; }
+
   // Throws Error naming `element` at bit `position` (the current one by default).
   [[noreturn]] void fail(std::string_view element, const std::string& message) const;
   [[noreturn]] void failAt(uint64_t position, std::string_view element,
@@ -112,6 +123,21 @@ class BitReader {
   std::string source_;
   uint64_t size_;
   uint64_t position_ = 0;
+  std::vector<uint64_t> startCodes_;
 };
+
+inline uint32_t BitReader::bitsAtOrZero(uint64_t position, int count) const {
+  if (count == 0) return 0;
+  const uint64_t byte = position >> 3;
+  uint64_t window = 0;  // 40 bits from `byte` on: room for 32 bits at any bit offset
+  if (position < size_ && byte + 5 <= data_.size()) {
+    for (uint64_t i = 0; i < 5; ++i) window = (window << 8) | data_[byte + i];
+  } else {
+    for (uint64_t i = 0; i < 5; ++i)
+      window = (window << 8) | (position < size_ && byte + i < data_.size() ? data_[byte + i] : 0);
+  }
+  const int shift = 40 - static_cast<int>(position & 7) - count;
+  return static_cast<uint32_t>((window >> shift) & ((uint64_t{1} << count) - 1));
+}
 
 }  // namespace mpeg4face

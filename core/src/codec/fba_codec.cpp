@@ -97,10 +97,26 @@ std::vector<FapFrame> withoutZeroFaps(std::span<const FapFrame> frames) {
 void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream,
                   FbaStreamInfo& info);
 
+// Start codes are unique in 14496-2: a standard decoder (or the system layer before it) takes
+// every byte-aligned 0x000001 for one. So a strict reader refuses the data if one lies
+// anywhere but at a start code the syntax read (BitReader::startCodes).
+void refuseStartCodeEmulation(const BitReader& in) {
+  const std::span<const uint8_t> data = in.data();
+  const std::vector<uint64_t>& codes = in.startCodes();
+  for (size_t i = 0; i + 3 <= data.size(); ++i) {
+    if (data[i] != 0 || data[i + 1] != 0 || data[i + 2] != 1) continue;
+    if (std::binary_search(codes.begin(), codes.end(), uint64_t{i} * 8)) continue;
+    in.failAt(uint64_t{i} * 8, "start code emulation",
+              "0x000001 at a byte boundary, which is no start code of the syntax: a standard "
+              "decoder takes it for one and ends the object there");
+  }
+}
+
 // `code` here, byte-aligned as 14496-2 places start codes after headers and user data, or
 // after next_start_code() stuffing as this codec writes them; consumed if so.
 bool acceptStartCode(BitReader& in, uint32_t code) {
   if ((in.position() & 7) == 0 && in.bitsLeft() >= 32 && in.peekBitsOrZero(32) == code) {
+    in.noteStartCode(in.position());
     in.skip(32);
     return true;
   }
@@ -262,11 +278,56 @@ FapStream decodeFba(std::span<const uint8_t> bytes, std::string_view source,
                                : "the stream is damaged ") +
                     e.reason());
   }
+  if (limits.strict) refuseStartCodeEmulation(in);
   if (pca) stream.frames = fba::reconstructPca(*pca, stream.frames, source);
   return stream;
 }
 
 namespace {
+
+// 14496-2 reads fba_object as
+//   do { fba_object_plane() } while (!(nextbits_bytealigned() == '000 0000 0000 0000 0000 0000'
+//        && nextbits_bytealigned() != fba_object_plane_start_code))
+// and the plane header begins with "if (nextbits_bytealigned() == 23 zero bits) {
+// next_start_code() fba_object_plane_start_code }". Strict reading does exactly that: whatever
+// bits lie before the boundary nextbits_bytealigned() looks at are taken for stuffing.
+// The default reads a start code only behind exact stuffing (BitReader::nextIsStartCode).
+bool objectEnds(BitReader& in, bool strict) {
+  if (!strict) return in.nextIsStartCode(kFbaObjectEndCode);
+  const uint64_t at = in.nextBytealigned();
+  return in.startCodePrefixAt(at) && in.bitsAtOrZero(at, 32) != kFbaObjectPlaneStartCode;
+}
+
+void readEndCode(BitReader& in, bool strict) {
+  if (!strict) {
+    in.readStartCode(kFbaObjectEndCode, "fba_object_end_code");
+    return;
+  }
+  const uint64_t at = in.nextBytealigned();
+  const uint32_t code = in.bitsAtOrZero(at, 32);
+  if (at + 32 > in.size() || code != kFbaObjectEndCode) {
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%08X", code);
+    in.failAt(at, "fba_object_end_code",
+              std::string("the object ends here (a start code prefix), but with ") + hex);
+  }
+  in.noteStartCode(at);
+  in.seek(at + 32);
+}
+
+void readPlaneStartCode(BitReader& in, bool strict) {
+  if (!strict) {
+    if (in.nextIsStartCode(kFbaObjectPlaneStartCode)) {
+      in.readStartCode(kFbaObjectPlaneStartCode, "fba_object_plane_start_code");
+    }
+    return;
+  }
+  const uint64_t at = in.nextBytealigned();
+  if (!in.startCodePrefixAt(at)) return;
+  // objectEnds() said the 32 bits here are fba_object_plane_start_code.
+  in.noteStartCode(at);
+  in.seek(at + 32);
+}
 
 void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& stream,
                   FbaStreamInfo& info) {
@@ -276,8 +337,10 @@ void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& strea
   fba::DctDecoder dct(limits);
   int64_t number = 0;
   for (;;) {
-    if (in.nextIsStartCode(kFbaObjectEndCode)) {
-      in.readStartCode(kFbaObjectEndCode, "fba_object_end_code");
+    // The syntax's do-while reads one plane first; this encoder writes an object without
+    // planes for a stream without frames, so the end is looked for before the first too.
+    if (objectEnds(in, limits.strict)) {
+      readEndCode(in, limits.strict);
       break;
     }
     if (in.bitsLeft() == 0) in.fail("fba_object_end_code", "the data ends without it");
@@ -286,9 +349,7 @@ void decodePlanes(BitReader& in, const FbaDecodeLimits& limits, FapStream& strea
       in.fail("fba_object_plane",
               "more than " + std::to_string(limits.maxFrames) + " frames (FbaDecodeLimits)");
     }
-    if (in.nextIsStartCode(kFbaObjectPlaneStartCode)) {
-      in.readStartCode(kFbaObjectPlaneStartCode, "fba_object_plane_start_code");
-    }
+    readPlaneStartCode(in, limits.strict);
     const fba::PlaneHeader header = fba::readPlaneHeader(in, limits.maxFrameNumber);
     // A predictive plane is one frame; a DCT plane is a segment whose frames it appends.
     const auto newFrame = [&]() -> FapFrame& {

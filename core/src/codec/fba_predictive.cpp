@@ -10,6 +10,7 @@
 #include <string>
 
 #include "codec/fba_trellis.hpp"
+#include "codec/start_code_guard.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/spec.hpp"
 
@@ -259,16 +260,59 @@ class PredictiveEncoder {
     if (options.rdoLambda > 0) rdo_ = rdoFaps(frames, options.fapQuant, options.rdoLambda);
   }
 
-  // One intra plane for frames_[begin] and inter planes for the rest of [begin, end).
-  void encodeGroup(size_t begin, size_t end) {
+  // One intra plane for frames_[begin] and inter planes for the frames after it up to `end`,
+  // none of them emulating or hiding behind a start code (secure()). Returns where the group
+  // ended: `end`, or earlier if an inter plane could not be written safely; the next group
+  // then starts there, with an intra plane, whose bits differ.
+  size_t encodeGroup(size_t begin, size_t end) {
+    kept_ = {state_.rangesSet, state_.blendTop, state_.intraRange, state_.interRange};
+    for (int attempt = 0;; ++attempt) {
+      if (attempt == kIntraAttempts) {
+        throw Error({}, 0, "start code emulation",
+                    "frame " + std::to_string(frames_[begin].number) +
+                        ": no intra plane the encoder tried avoids a byte-aligned 0x000001");
+      }
+      if (writeGroup(begin, end, attempt)) return begin + planes_.size();
+      rollBack(0);
+    }
+  }
+
+ private:
+  // Alternatives for an intra plane that emulates a start code: the same plane with a time
+  // code (19 bits more, so the segments after it lie differently against the byte
+  // boundaries), and wider intra ranges (i_new_max codes 1-3 larger: other intra symbols).
+  static constexpr int kIntraAttempts = 8;
+
+  // Where each plane of the group lies in out_, for secure() and rollBack().
+  struct PlaneSpan {
+    uint64_t start = 0;  // its first bit (of the start code's stuffing, if it has one)
+    uint64_t body = 0;   // its first bit after the start code
+    uint64_t end = 0;
+    bool startCode = false;
+    size_t frame = 0;  // its index in stats.frameBits and the reconstruction
+    int clippedBefore = 0;
+  };
+  // What an intra plane changes in the state beyond the plane itself.
+  struct KeptRanges {
+    bool rangesSet = false;
+    int blendTop = 63;
+    std::array<LevelRange, kFapCount> intraRange{}, interRange{};
+  };
+
+  // The group as encodeGroup describes it, with `attempt`'s intra plane; false if that plane
+  // cannot be made safe (the caller rolls the group back and tries the next attempt).
+  bool writeGroup(size_t begin, size_t end, int attempt) {
     state_.beginIntra(options_.fapQuant, frames_[begin].mask);
     if (trellis()) planGroup(begin, end);
+    widen_ = attempt / 2;
     const std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes =
         chooseRanges(begin, end);
 
-    uint64_t start = out_.bitCount();
-    out_.writeStartCode(kFbaObjectPlaneStartCode);
-    writePlaneHeader(out_, {true, rate_, std::nullopt, framesToSkipAfter(frames_, begin)});
+    planes_.clear();
+    openPlane(true);
+    std::optional<TimeCode> timeCode;
+    if (attempt % 2 == 1) timeCode = timeCodeOf(frames_[begin].number);
+    writePlaneHeader(out_, {true, rate_, timeCode, framesToSkipAfter(frames_, begin)});
     writeIntraSettings(out_, {options_.fapQuant, state_.mask, false, kCodingTypePredictive});
     for (int flag = 0; flag < 4; ++flag) out_.writeBit(anyCode(codes[flag]));
     for (int flag = 0; flag < 4; ++flag) {
@@ -283,18 +327,117 @@ class PredictiveEncoder {
     }
     state_.resetModels();
     encodeData(frames_[begin], true, 0);
-    output_.stats.frameBits.push_back(out_.bitCount() - start);
+    closePlane();
     ++output_.stats.intraFrames;
 
     for (size_t k = begin + 1; k < end; ++k) {
-      start = out_.bitCount();
+      openPlane(false);
       writePlaneHeader(out_, {false, std::nullopt, std::nullopt, framesToSkipAfter(frames_, k)});
       encodeData(frames_[k], false, k - begin);
-      output_.stats.frameBits.push_back(out_.bitCount() - start);
+      closePlane();
+      // The plane before this one is checked now that the bits after it are known.
+      const size_t j = planes_.size() - 2;
+      if (secure(j, false)) continue;
+      if (j == 0) return false;
+      rollBack(j);  // the group ends before frame j, and the next starts there
+      break;
+    }
+    // A start code follows the group's last plane: the next intra plane's or the end code.
+    while (!secure(planes_.size() - 1, true)) {
+      if (planes_.size() == 1) return false;
+      rollBack(planes_.size() - 1);
+    }
+    return true;
+  }
+
+  void openPlane(bool startCode) {
+    const uint64_t start = out_.bitCount();
+    planes_.push_back({start, start, start, startCode, output_.stats.frameBits.size(),
+                       output_.stats.clippedValues});
+    if (startCode) {
+      out_.writeStartCode(kFbaObjectPlaneStartCode);
+      planes_.back().body = out_.bitCount();
+    }
+  }
+  void closePlane() {
+    PlaneSpan& plane = planes_.back();
+    plane.end = out_.bitCount();
+    output_.stats.frameBits.push_back(plane.end - plane.start);
+  }
+
+  // Drops planes j.. of the group (all of it and what its intra plane set, for j = 0).
+  void rollBack(size_t j) {
+    const PlaneSpan& plane = planes_[j];
+    out_.truncate(plane.start);
+    output_.stats.frameBits.resize(plane.frame);
+    output_.reconstruction.frames.resize(plane.frame);
+    output_.stats.clippedValues = plane.clippedBefore;
+    if (j == 0) {
+      --output_.stats.intraFrames;
+      state_.rangesSet = kept_.rangesSet;
+      state_.blendTop = kept_.blendTop;
+      state_.intraRange = kept_.intraRange;
+      state_.interRange = kept_.interRange;
+    }
+    planes_.resize(j);
+  }
+
+  TimeCode timeCodeOf(int number) const {
+    const auto seconds = static_cast<uint32_t>(number / framesPerSecond(rate_));
+    return {seconds / 3600 % 32, seconds / 60 % 60, seconds % 60};
+  }
+
+  // Whether a standard decoder misreads plane j (codec/start_code_guard.hpp); the bits after
+  // it are out_'s, or, if `codeFollows` and none are written yet, the start code to follow.
+  bool violates(size_t j, bool codeFollows) const {
+    codes_.clear();
+    for (const PlaneSpan& p : planes_) {
+      if (p.startCode) codes_.push_back(startCodeAfter(p.start));
+    }
+    const PlaneSpan& s = planes_[j];
+    return misreadByStandardDecoder(out_, {s.start, s.end, s.startCode}, codes_, codeFollows,
+                                    bits_);
+  }
+
+  // Makes plane j safe (violates() false), given that a start code follows it if
+  // `codeFollows`: first with a plane start code after it (stuffing ends the runs its tail
+  // and the next header make), then with one before it (the syntax allows
+  // fba_object_plane_start_code before any plane; it aligns the plane anew and nothing can be
+  // taken for stuffing before it). Both leave the coded bits as they are. False if j stays
+  // unsafe.
+  bool secure(size_t j, bool codeFollows) {
+    if (!violates(j, codeFollows)) return true;
+    if (j + 1 < planes_.size() && !planes_[j + 1].startCode) {
+      insertStartCode(j + 1);
+      if (!violates(j, true)) return true;
+      codeFollows = true;
+    }
+    if (planes_[j].startCode) return false;
+    insertStartCode(j);
+    // The start code moved what follows plane j - 1, so that plane is checked again.
+    return !violates(j, codeFollows) && secure(j - 1, true);
+  }
+
+  // fba_object_plane_start_code before plane j. The planes after it move along; those with a
+  // start code get their stuffing anew, since it depends on where they now start.
+  void insertStartCode(size_t j) {
+    std::vector<BitWriter> bodies;
+    for (size_t m = j; m < planes_.size(); ++m) {
+      bodies.push_back(out_.slice(planes_[m].body, planes_[m].end));
+    }
+    out_.truncate(planes_[j].start);
+    planes_[j].startCode = true;
+    for (size_t m = j; m < planes_.size(); ++m) {
+      PlaneSpan& plane = planes_[m];
+      plane.start = out_.bitCount();
+      if (plane.startCode) out_.writeStartCode(kFbaObjectPlaneStartCode);
+      plane.body = out_.bitCount();
+      out_.append(bodies[m - j]);
+      plane.end = out_.bitCount();
+      output_.stats.frameBits[plane.frame] = plane.end - plane.start;
     }
   }
 
- private:
   bool trellis() const { return options_.rdoTrellis && options_.rdoLambda > 0; }
 
   // Trellis quantisation (codec/fba_trellis.hpp) of every masked low-level FAP over the group.
@@ -370,7 +513,9 @@ class PredictiveEncoder {
     const auto fitted = [&](int inter, bool max, size_t i) {
       const uint32_t code = max ? fitCode(needMax[inter][i], options_.fapQuant)
                                 : fitCode(-needMin[inter][i], options_.fapQuant);
-      return !inter && max && i == 3 ? std::max(code, 1u) : code;
+      if (inter || !max) return code;
+      const uint32_t wide = std::min(code + static_cast<uint32_t>(widen_), kMaxRangeCode);
+      return i == 3 ? std::max(wide, 1u) : wide;
     };
     std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes{};
     for (int inter = 0; inter < 2; ++inter) {
@@ -378,6 +523,7 @@ class PredictiveEncoder {
       std::optional<double> best;
       int bestCombo = 0;
       for (int combo = 0; combo < 4; ++combo) {  // bit 0: send max, bit 1: send min
+        if (!inter && widen_ > 0 && !(combo & 1)) continue;  // the wider Imax is sent
         const bool sendMax = combo & 1, sendMin = combo & 2;
         double bits = codeBits * ((sendMax ? 1 : 0) + (sendMin ? 1 : 0));
         bool fits = true;
@@ -555,6 +701,11 @@ class PredictiveEncoder {
   std::vector<int> histogram_;                 // shrinkInterRange's, kept to spare allocations
   std::array<TrellisLevels, kFapCount> plan_;  // the group's levels, with rdoTrellis
   std::array<int64_t, kFapCount> unclipped_{};  // countClipped's reconstruction
+  std::vector<PlaneSpan> planes_;               // the group's planes
+  KeptRanges kept_;                             // the ranges before the group's intra plane
+  int widen_ = 0;  // chooseRanges sends i_new_max this much wider (an intra plane's attempt)
+  mutable std::vector<bool> bits_;  // violates()'s, kept to spare allocations
+  mutable std::vector<uint64_t> codes_;
 };
 
 }  // namespace
@@ -570,8 +721,7 @@ void encodePredictive(std::span<const FapFrame> frames, const FbaEncodeOptions& 
            (options.intraPeriod == 0 || end - begin < static_cast<size_t>(options.intraPeriod))) {
       ++end;
     }
-    encoder.encodeGroup(begin, end);
-    begin = end;
+    begin = encoder.encodeGroup(begin, end);
   }
 }
 

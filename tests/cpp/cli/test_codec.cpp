@@ -62,6 +62,20 @@ TEST(CliCodec, LosslessRoundTripThroughFiles) {
   EXPECT_EQ(back.frames, original.frames);
 }
 
+// decode --strict reads as a standard decoder (FbaDecodeLimits::strict), and the encoder's
+// streams read the same that way (test_fba_start_codes.cpp has what it refuses).
+TEST(CliCodec, DecodeStrictReadsTheSame) {
+  const std::string fba = (scratchDir() / "joy.fba").string();
+  const std::string plain = (scratchDir() / "plain.fap").string();
+  const std::string strict = (scratchDir() / "strict.fap").string();
+  ASSERT_EQ(runCli("encode " + kJoy + " -o " + fba + " --fap-quant 0 --rdo-lambda 0.005 " +
+                   "--intra-period 7").status, 0);
+  ASSERT_EQ(runCli("decode " + fba + " -o " + plain).status, 0);
+  const auto r = runCli("decode " + fba + " --strict -o " + strict);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(mpeg4face::readFapFile(strict).frames, mpeg4face::readFapFile(plain).frames);
+}
+
 TEST(CliCodec, BadArgumentsAndStreams) {
   const std::string fba = (scratchDir() / "x.fba").string();
   auto r = runCli("encode " + kJoy + " -o " + fba + " --fap-quant 32");

@@ -94,6 +94,13 @@ inline constexpr int kMaxFbaValue = 1 << 24;
 struct FbaDecodeLimits {
   size_t maxFrames = size_t{1} << 20;  // about 11.6 hours at 25 frames per second
   int maxFrameNumber = 1 << 30;        // skipped frames count too
+  // Read as 14496-2's syntax reads, as a standard decoder does (docs/bitstream.md, "Strict
+  // decoding"): a start code before a plane and the end of the object wherever
+  // nextbits_bytealigned() shows 23 zero bits, the stuffing before them not checked; and a
+  // byte-aligned 0x000001 that is not a start code the syntax reads is an error (start code
+  // emulation: a standard decoder would end the object there). The default instead takes a
+  // start code only behind exact next_start_code() stuffing.
+  bool strict = false;
 };
 
 // Accepts visual_object_sequence and visual_object headers (and user data) before fba_object.
