@@ -21,13 +21,18 @@ struct Recipe {
 };
 
 // Decodes `encoded` and aborts unless the result is the encoder's reconstruction with at least
-// the input's frames. Returns it and, in `offset`, where the input's first frame is in it (the
-// bitstream puts an empty frame 0 in front of a stream that starts later).
+// the input's frames, read both as this project reads and strictly, as 14496-2's syntax reads
+// (no start code emulated, no plane hidden before one). Returns it and, in `offset`, where the
+// input's first frame is in it (the bitstream puts an empty frame 0 in front of a stream that
+// starts later).
 inline FapStream decodeAsReconstructed(const FapStream& stream, const FbaEncoding& encoded,
                                        std::size_t& offset) {
   FapStream decoded = decodeFba(encoded.bytes);
   if (decoded != encoded.reconstruction || decoded.frames.size() < stream.frames.size())
     std::abort();
+  FbaDecodeLimits strict;
+  strict.strict = true;
+  if (decodeFba(encoded.bytes, {}, strict) != decoded) std::abort();
   offset = decoded.frames.size() - stream.frames.size();
   return decoded;
 }

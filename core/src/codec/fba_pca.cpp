@@ -156,22 +156,72 @@ std::vector<PcaGroup> pcaGroups(const FapStream& stream, const FbaEncodeOptions&
 namespace fba {
 namespace {
 
-void writeUe(BitWriter& out, uint64_t value) {
+// The header's bits with kPcaStuffingRun stuffing.
+class StuffedWriter {
+ public:
+  explicit StuffedWriter(BitWriter& out) : out_(out) {}
+  void writeBit(bool bit) {
+    out_.writeBit(bit);
+    zeros_ = bit ? 0 : zeros_ + 1;
+    if (zeros_ == kPcaStuffingRun) writeBit(true);
+  }
+  void writeBits(uint32_t value, int count) {
+    for (int b = count - 1; b >= 0; --b) writeBit(((value >> b) & 1) != 0);
+  }
+
+ private:
+  BitWriter& out_;
+  int zeros_ = 0;
+};
+
+// Reads what StuffedWriter wrote, dropping its stuffing; or, with `stuffed` false, a header
+// as written before issue 44, bit for bit.
+class StuffedReader {
+ public:
+  // `zeros`: the zeros in a row just read.
+  StuffedReader(BitReader& in, bool stuffed, int zeros)
+      : in_(in), stuffed_(stuffed), zeros_(zeros) {}
+  bool readBit(std::string_view element) {
+    const bool bit = in_.readBit(element);
+    zeros_ = bit ? 0 : zeros_ + 1;
+    if (stuffed_ && zeros_ == kPcaStuffingRun && !readBit("pca_stuffing_bit")) {
+      in_.failAt(in_.position() - 1, "pca_stuffing_bit",
+                 "is 0 after " + std::to_string(kPcaStuffingRun) + " zeros (it must be 1)");
+    }
+    return bit;
+  }
+  uint32_t readBits(int count, std::string_view element) {
+    uint32_t v = 0;
+    for (int b = 0; b < count; ++b) v = (v << 1) | (readBit(element) ? 1 : 0);
+    return v;
+  }
+  uint64_t position() const { return in_.position(); }
+  [[noreturn]] void failAt(uint64_t position, std::string_view element, const std::string& what) {
+    in_.failAt(position, element, what);
+  }
+
+ private:
+  BitReader& in_;
+  bool stuffed_;
+  int zeros_;
+};
+
+void writeUe(StuffedWriter& out, uint64_t value) {
   // Exp-Golomb: n zeros, then the n + 1 bits of value + 1.
   const uint64_t v = value + 1;
   int n = 0;
   while ((v >> (n + 1)) != 0) ++n;
-  out.writeBits(0, n);
+  for (int b = 0; b < n; ++b) out.writeBit(false);
   for (int b = n; b >= 0; --b) out.writeBit(((v >> b) & 1) != 0);
 }
 
-void writeSe(BitWriter& out, int64_t value) {
+void writeSe(StuffedWriter& out, int64_t value) {
   // 0, 1, -1, 2, -2, ... as 0, 1, 2, 3, 4, ...
   writeUe(out,
           value > 0 ? 2 * static_cast<uint64_t>(value) - 1 : 2 * static_cast<uint64_t>(-value));
 }
 
-uint64_t readUe(BitReader& in, std::string_view element) {
+uint64_t readUe(StuffedReader& in, std::string_view element) {
   const uint64_t start = in.position();
   int n = 0;
   while (!in.readBit(element)) {
@@ -182,7 +232,7 @@ uint64_t readUe(BitReader& in, std::string_view element) {
   return v - 1;
 }
 
-int64_t readSe(BitReader& in, std::string_view element, int64_t bound) {
+int64_t readSe(StuffedReader& in, std::string_view element, int64_t bound) {
   const uint64_t start = in.position();
   const uint64_t code = readUe(in, element);
   const int64_t magnitude = static_cast<int64_t>((code + 1) / 2);
@@ -264,19 +314,21 @@ void encodePca(std::span<const FapFrame> frames, const FbaEncodeOptions& options
   }
 
   output.out.writeStartCode(kPcaHeaderStartCode);
-  output.out.writeBits(static_cast<uint32_t>(header.basisBits), 4);
+  StuffedWriter out(output.out);
+  out.writeBits(kPcaHeaderStuffed, 4);
+  out.writeBits(static_cast<uint32_t>(header.basisBits), 4);
   for (const FapGroupInfo& g : fapGroupTable()) {
     if (g.number < kFirstPcaGroup) continue;
     const auto h = std::find_if(header.groups.begin(), header.groups.end(),
                                 [&](const PcaHeaderGroup& x) { return x.group == g.number; });
     for (int fap = g.firstFap; fap <= g.lastFap; ++fap) {
-      output.out.writeBit(h != header.groups.end() &&
-                          std::find(h->faps.begin(), h->faps.end(), fap) != h->faps.end());
+      out.writeBit(h != header.groups.end() &&
+                   std::find(h->faps.begin(), h->faps.end(), fap) != h->faps.end());
     }
     if (h == header.groups.end()) continue;
-    writeUe(output.out, static_cast<uint64_t>(h->components));
-    for (const int64_t mean : h->mean) writeSe(output.out, mean);
-    for (const int64_t w : h->basis) writeSe(output.out, w);
+    writeUe(out, static_cast<uint64_t>(h->components));
+    for (const int64_t mean : h->mean) writeSe(out, mean);
+    for (const int64_t w : h->basis) writeSe(out, w);
   }
   const uint64_t headerBits = output.out.bitCount() - headerStart;
 
@@ -293,9 +345,13 @@ void encodePca(std::span<const FapFrame> frames, const FbaEncodeOptions& options
   output.reconstruction.frames = reconstructPca(header, decodedComponents.frames, {});
 }
 
-PcaHeader readPcaHeader(BitReader& in) {
+PcaHeader readPcaHeader(BitReader& raw) {
   PcaHeader header;
-  header.basisBits = static_cast<int>(in.readBits(4, "pca_basis_bits"));
+  // pca_header_format 0; before issue 44 these 4 bits were pca_basis_bits (1..15).
+  const uint32_t format = raw.readBits(4, "pca_header_format");
+  const bool stuffed = format == kPcaHeaderStuffed;
+  StuffedReader in(raw, stuffed, stuffed ? 4 : 0);
+  header.basisBits = static_cast<int>(stuffed ? in.readBits(4, "pca_basis_bits") : format);
   if (header.basisBits < 1) in.failAt(in.position() - 4, "pca_basis_bits", "is 0 (1..15)");
   for (const FapGroupInfo& g : fapGroupTable()) {
     if (g.number < kFirstPcaGroup) continue;

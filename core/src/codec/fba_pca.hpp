@@ -18,6 +18,13 @@ inline constexpr uint32_t kPcaHeaderStartCode = 0x000001B2;
 inline constexpr int kMaxPcaBasisBits = 15;
 // Bounds of the header's integers, so that the inverse KLT stays within int64.
 inline constexpr std::int64_t kMaxPcaBasisEntry = std::int64_t{1} << 24;
+// The header after its start code is stuffed: a 1 after this many zeros in a row, which the
+// decoder drops. With the start code's last 0 before the header and next_start_code()'s 0
+// after it, no run reaches 23, so the header emulates no start code (docs/pca-mode.md).
+inline constexpr int kPcaStuffingRun = 16;
+// pca_header_format: the header is stuffed. A header written before issue 44 (not stuffed)
+// has pca_basis_bits, 1..15, in these 4 bits instead; the decoder reads both.
+inline constexpr uint32_t kPcaHeaderStuffed = 0;
 
 struct PcaHeaderGroup {
   int group = 0;                    // 2..10
@@ -40,7 +47,8 @@ int pcaComponentSlot(int group, int j);
 void encodePca(std::span<const FapFrame> frames, const FbaEncodeOptions& options,
                const FrameRateCode& rate, EncodeOutput& output);
 
-// The header after its start code. Throws Error for values beyond the bounds above.
+// The header after its start code, stuffed, or as written before issue 44 without stuffing.
+// Throws Error for values beyond the bounds above or a stuffing bit that is 0.
 PcaHeader readPcaHeader(BitReader& in);
 
 // The FAP frames from the component frames, in integer arithmetic (docs/pca-mode.md) so that

@@ -5,6 +5,7 @@
 // reconstruction bit for bit on the Xface streams, `encode --mode pca|auto`, bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,10 +13,12 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <span>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "codec/fba_pca.hpp"
 #include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/codec/measure.hpp"
 #include "mpeg4face/codec/pca.hpp"
@@ -342,7 +345,7 @@ std::string readBytes(const std::filesystem::path& path) {
 }
 
 TEST(PcaCodec, MalformedFiles) {
-  // Made by tests/data/malformed/pca_generate.py from tests/fuzz_corpus/fba/pca_joy_q8.fba.
+  // Made by tests/data/malformed/pca_generate.py from tests/data/pca/legacy_joy_q8.fba.
   for (const auto& [file, element, text] :
        std::vector<std::tuple<std::string, std::string, std::string>>{
            {"pca_zero_basis_bits.fba", "pca_basis_bits", "is 0 (1..15)"},
@@ -350,7 +353,8 @@ TEST(PcaCodec, MalformedFiles) {
            {"pca_huge_basis_entry.fba", "pca_basis (FAP group 2)", "exceeds 16777216"},
            {"pca_long_code.fba", "pca_mean (FAP group 2)", "longer than 40 leading zeros"},
            {"pca_missing_component.fba", "FAP ", "carries a PCA component and is not sent"},
-           {"pca_truncated.fba", "pca_basis (FAP group 8)", "truncated"}}) {
+           {"pca_truncated.fba", "pca_basis (FAP group 8)", "truncated"},
+           {"pca_stuffing_bit_zero.fba", "pca_stuffing_bit", "is 0 after 16 zeros"}}) {
     const std::string data = readBytes(kData / "malformed" / file);
     ASSERT_FALSE(data.empty()) << file;
     const Error e = errorOf([&, file = file] {
@@ -360,6 +364,63 @@ TEST(PcaCodec, MalformedFiles) {
     EXPECT_TRUE(e.field().starts_with(element)) << file << ": " << e.what();
     EXPECT_TRUE(contains(e, text)) << file << ": " << e.what();
   }
+}
+
+// The longest run of zero bits in bytes [from, to).
+int longestZeroRun(std::span<const std::uint8_t> bytes, size_t from, size_t to) {
+  int run = 0, longest = 0;
+  for (size_t i = from * 8; i < to * 8; ++i) {
+    run = (bytes[i / 8] >> (7 - i % 8)) & 1 ? 0 : run + 1;
+    longest = std::max(longest, run);
+  }
+  return longest;
+}
+
+// A header's pca_fap_mask is all zeros for every group before the only one that moves (62 in
+// a row for group 10), and its Exp-Golomb codes hold long runs of zeros too: unstuffed, the
+// header emulated a start code (fuzz_pca found a seed where it did, issue 44). Stuffed, no run
+// in it is longer than the stuffing allows, and every encoding reads the same strictly.
+TEST(PcaCodec, TheHeaderEmulatesNoStartCode) {
+  const std::vector<std::uint8_t> objectAndHeaderCodes = {0, 0, 1, 0xB9, 0x7F, 0, 0, 1, 0xB2};
+  const std::vector<std::uint8_t> planeCode = {0, 0, 1, 0xBB};
+  for (const FapGroupInfo& g : fapGroupTable()) {
+    if (g.number < 2) continue;
+    FapStream s;
+    for (int t = 0; t < 12; ++t) {
+      FapFrame& f = s.frames.emplace_back();
+      f.number = t;
+      for (int fap = g.firstFap; fap <= g.lastFap; ++fap) f.set(fap, (fap * 37 + t * t * 11) % 300);
+    }
+    for (int basisBits = 1; basisBits <= 15; ++basisBits) {
+      SCOPED_TRACE("FAP group " + std::to_string(g.number) + ", pca_basis_bits " +
+                   std::to_string(basisBits));
+      const FbaEncoding enc = encodeFba(s, pca(4, FapCodingMode::Predictive, 0.98, basisBits));
+      ASSERT_TRUE(std::equal(objectAndHeaderCodes.begin(), objectAndHeaderCodes.end(),
+                             enc.bytes.begin()));
+      const auto planes =
+          std::search(enc.bytes.begin(), enc.bytes.end(), planeCode.begin(), planeCode.end());
+      ASSERT_NE(planes, enc.bytes.end());
+      // From the header start code's last byte to the first plane start code's stuffing: its
+      // last 0 before the header and the stuffing's 0 after it add one each to a run.
+      EXPECT_LE(longestZeroRun(enc.bytes, objectAndHeaderCodes.size() - 1,
+                               static_cast<size_t>(planes - enc.bytes.begin())),
+                fba::kPcaStuffingRun + 1);
+      EXPECT_EQ(decodeBothWays(enc.bytes), enc.reconstruction);
+    }
+  }
+}
+
+// Streams written before issue 44 have an unstuffed header, told apart by its first 4 bits
+// (pca_basis_bits 1..15 where pca_header_format is 0 now): the decoder still reads them, to
+// what the decoder of then read (legacy_joy_q8.fap, decoded by it; tests/data/pca/README.md).
+TEST(PcaCodec, ReadsTheHeaderWrittenBeforeStuffing) {
+  const std::string legacy = readBytes(kData / "pca" / "legacy_joy_q8.fba");
+  ASSERT_FALSE(legacy.empty());
+  const FapStream decoded =
+      decodeFba(std::span(reinterpret_cast<const std::uint8_t*>(legacy.data()), legacy.size()));
+  const FapStream then = readFapFile((kData / "pca" / "legacy_joy_q8.fap").string());
+  ASSERT_EQ(decoded.frames.size(), 108U);
+  EXPECT_EQ(decoded.frames, then.frames);
 }
 
 TEST(PcaCodec, EveryTruncationIsAnError) {
