@@ -78,6 +78,7 @@ __all__ = [
     "TransformChannel",
     "FaceModel",
     "cut_face_model",
+    "snap_feature_points",
     # files
     "CandideUnit",
     "CandideModel",

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "bindings.hpp"
+#include "mpeg4face/model/feature_point_snap.hpp"
 #include "mpeg4face/model/mesh_cut.hpp"
 
 namespace mpeg4face::python {
@@ -501,6 +502,26 @@ FaceModel; raises mpeg4face.Error for a model that fails validate() or a zero no
 
 }  // namespace
 
+void bindSnap(py::module_& m) {
+  m.def(
+      "snap_feature_points",
+      [](const PyFaceModel& model, double tolerance) {
+        FaceModel core = toCore(model);
+        FeaturePointSnap snap;
+        {
+          py::gil_scoped_release release;
+          snap = snapFeaturePointsToVertices(core, tolerance);
+        }
+        return py::make_tuple(fromCore(std::move(core)), snap.notes, snap.unbound);
+      },
+      "model"_a, "tolerance"_a = kFeaturePointSnapTolerance,
+      R"doc(Free feature points (FeaturePointBinding with a position, mesh -1) bound to the vertex
+they lie on, as the ARKit keys and the clone's lips need: each to the nearest corner of the
+closest triangle of the closest mesh, if that is within `tolerance` of the face's size (the
+diagonal of the box around the feature points). 7.1 and 7.2 stay free. Returns (model, notes,
+unbound): a new FaceModel, a line per point bound and a line per free point left free.)doc");
+}
+
 void bindModel(py::module_& m) {
   bindMorphTarget(m);
   bindMesh(m);
@@ -509,6 +530,7 @@ void bindModel(py::module_& m) {
   bindAnimation(m);
   bindFaceModel(m);
   bindCut(m);
+  bindSnap(m);
 }
 
 }  // namespace mpeg4face::python

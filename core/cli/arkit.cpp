@@ -8,10 +8,10 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "feature_points.hpp"
 #include "mpeg4face/arkit/shapes.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/names.hpp"
-#include "mpeg4face/io/feature_point_csv.hpp"
 #include "mpeg4face/io/gltf.hpp"
 #include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/spec.hpp"
@@ -49,11 +49,7 @@ int runArkitKeys(const std::vector<std::string>& args) {
 
   FaceModel head = readModel(path);
   std::vector<std::string> warnings;
-  if (featurePoints) {
-    FeaturePointCsv csv = readFeaturePointCsv(*featurePoints, head);
-    for (auto& [id, binding] : csv.featurePoints) head.featurePoints[id] = binding;
-    warnings = std::move(csv.warnings);
-  }
+  bindFeaturePoints(featurePoints, head, warnings);
   ArkitKeys keys;
   try {
     keys = arkitFapKeys(head, options);
@@ -61,6 +57,15 @@ int runArkitKeys(const std::vector<std::string>& args) {
     throw Error(path, 0, e.field(), e.reason());
   }
   warnings.insert(warnings.end(), keys.warnings.begin(), keys.warnings.end());
+  if (keys.mapping.keys.empty()) {
+    // A head without a single key is not what was asked for: say why, write nothing.
+    std::string why = keys.mapping.missed.empty() ? "" : ": " + keys.mapping.missed[0].reason;
+    if (keys.mapping.missed.size() > 1) {
+      why += " (and " + std::to_string(keys.mapping.missed.size() - 1) + " FAPs more)";
+    }
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    throw Error(path, 0, "FAP keys", "no FAP key could be made" + why + "; nothing written");
+  }
   writeGltf(keys.head, output);
 
   std::printf("%s: %zu ARKit shapes -> %zu FAP keys\n", path.c_str(), keys.shapes.shapes.size(),

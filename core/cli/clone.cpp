@@ -16,10 +16,10 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "feature_points.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/names.hpp"
 #include "mpeg4face/io/fat_gltf.hpp"
-#include "mpeg4face/io/feature_point_csv.hpp"
 #include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/io/vrml.hpp"
 #include "paths.hpp"
@@ -70,14 +70,6 @@ Args parseArgs(const std::vector<std::string>& args) {
         out.source + "'");
   }
   return out;
-}
-
-void bindFeaturePoints(const std::optional<std::string>& csvPath, FaceModel& model,
-                       std::vector<std::string>& warnings) {
-  if (!csvPath) return;
-  FeaturePointCsv csv = readFeaturePointCsv(*csvPath, model);
-  for (auto& [id, binding] : csv.featurePoints) model.featurePoints[id] = binding;
-  warnings.insert(warnings.end(), csv.warnings.begin(), csv.warnings.end());
 }
 
 struct Source {

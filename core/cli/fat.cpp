@@ -9,6 +9,7 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "feature_points.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/evaluate.hpp"
 #include "mpeg4face/fat/generate.hpp"
@@ -16,7 +17,6 @@
 #include "mpeg4face/fit/fit.hpp"
 #include "mpeg4face/io/fap_file.hpp"
 #include "mpeg4face/io/fat_gltf.hpp"
-#include "mpeg4face/io/feature_point_csv.hpp"
 #include "mpeg4face/io/gltf.hpp"
 #include "mpeg4face/io/obj.hpp"
 #include "mpeg4face/io/read_any.hpp"
@@ -100,11 +100,7 @@ int runFat(const std::vector<std::string>& rawArgs) {
   const std::optional<CandideModel> units = candide ? std::optional(readWfm(head)) : std::nullopt;
   FaceModel model = units ? candideToFaceModel(*units) : readModel(head);
   std::vector<std::string> warnings;
-  if (args.featurePoints) {
-    FeaturePointCsv csv = readFeaturePointCsv(*args.featurePoints, model);
-    for (auto& [id, binding] : csv.featurePoints) model.featurePoints[id] = binding;
-    warnings = std::move(csv.warnings);
-  }
+  bindFeaturePoints(args.featurePoints, model, warnings);
   if (units) {
     try {
       nameCandideFapUnits(model, *units);  // the FAPU come from the feature points just bound

@@ -11,11 +11,11 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "feature_points.hpp"
 #include "paths.hpp"
 #include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/codec/measure.hpp"
 #include "mpeg4face/io/fap_file.hpp"
-#include "mpeg4face/io/feature_point_csv.hpp"
 #include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/model/fapu.hpp"
 #include "mpeg4face/spec.hpp"
@@ -223,11 +223,7 @@ int runInfo(const std::vector<std::string>& rawArgs) {
   if (ext == ".fap" || ext == ".fba") return describeStream(args, ext == ".fba");
   FaceModel model = readModel(args.file);
   std::vector<std::string> warnings;
-  if (args.featurePoints) {
-    FeaturePointCsv csv = readFeaturePointCsv(*args.featurePoints, model);
-    for (auto& [id, binding] : csv.featurePoints) model.featurePoints[id] = binding;
-    warnings = std::move(csv.warnings);
-  }
+  bindFeaturePoints(args.featurePoints, model, warnings);
   const FapuMeasurement fapu = measureFapu(model);
   for (auto [name, d] : fapu.distances()) {
     if (!d->measured) warnings.push_back(std::string(name) + " not measured: " + d->method);

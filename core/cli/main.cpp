@@ -19,7 +19,9 @@ constexpr std::array kCommands{
             "          or a stream: .fap (version, frames, rate, FAPs and their ranges) or\n"
             "          .fba (also the coding mode, fap_quant, intra planes, bits and bits/s)\n"
             "  --feature-points CSV  bind feature points from CSV (fp,vertex | fp,mesh,vertex |\n"
-            "                        fp,x,y,z, or named columns); models only\n"
+            "                        fp,x,y,z, or named columns); models only. A free x,y,z\n"
+            "                        within 2% of the face's size of a surface is bound to\n"
+            "                        its nearest vertex (a warning says which)\n"
             "  --json  print one JSON object (a model: keys meshes, feature_points, fapu,\n"
             "          warnings; a stream: format, frames, frame_rate, faps, coding, ...)\n",
             mpeg4face::cli::runInfo},

@@ -338,3 +338,23 @@ def test_cut_face_model_keeps_the_faces_above_the_plane():
         mpeg4face.cut_face_model(model, (0, 0, 0), (0, 0, 0))
     with pytest.raises(ValueError, match="point"):
         mpeg4face.cut_face_model(model, (0, 0), (0, 1, 0))
+
+
+def test_snap_feature_points_binds_free_points_on_the_surface():
+    # A quad of 2 x 2 units and feature points at its corners, one free on the surface near
+    # vertex 2, one free far off it, 7.1 free inside.
+    quad = IndexedFaceSet("quad", [[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0]], [0, 1, 2, 3, -1])
+    model = FaceModel(meshes=[quad], transforms=[Transform("t", meshes=[0])], roots=[0],
+                      feature_points={"2.2": FeaturePointBinding(0, 0),
+                                      "2.3": FeaturePointBinding(0, 1),
+                                      "2.1": FeaturePointBinding(position=[1.9, 1.8, 0.01]),
+                                      "9.3": FeaturePointBinding(position=[1, 1, 1]),
+                                      "7.1": FeaturePointBinding(position=[1, 1, -0.01])})
+    snapped, notes, unbound = mpeg4face.snap_feature_points(model)
+    assert snapped.feature_points["2.1"].mesh == 0 and snapped.feature_points["2.1"].vertex == 2
+    assert [n.split(" (")[0] for n in notes] == ["feature point 2.1 bound to vertex 2 of mesh 'quad'"]
+    assert len(unbound) == 1 and unbound[0].startswith("feature point 9.3 is left free")
+    assert snapped.feature_points["9.3"].mesh == -1 and snapped.feature_points["7.1"].mesh == -1
+    assert model.feature_points["2.1"].mesh == -1  # the input is not changed
+    _, notes, _ = mpeg4face.snap_feature_points(model, tolerance=0.5)  # 9.3 too now
+    assert len(notes) == 2

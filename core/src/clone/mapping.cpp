@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "clone/clone_internal.hpp"
-#include "clone/surface_closest_point.hpp"
+#include "model/surface_closest_point.hpp"
 #include "clone/triangle_interpolation.hpp"
 #include "mpeg4face/error.hpp"
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "arkit_test_head.hpp"
@@ -39,6 +40,40 @@ TEST(CliArkit, KeysReportsTheFapsMadeAndMissedAndFeedsFatGenerate) {
   const auto lean = runCli("arkit keys " + head + " --no-visemes --no-expressions -o " + out);
   ASSERT_EQ(lean.status, 0) << lean.out;
   EXPECT_TRUE(has(lean.out, "0 viseme and 0 expression keys")) << lean.out;
+}
+
+// Feature points given as free positions (a CSV's fp,x,y,z): those on the surface are bound
+// to their vertices and the keys are made as with vertex-bound points; points nowhere near the
+// head make no key, and a command that makes nothing fails and writes nothing (issue 42).
+TEST(CliArkit, KeysFromFreeFeaturePoints) {
+  const auto dir = scratchDir();
+  const std::string head = (dir / "head.glb").string(), out = (dir / "keys.glb").string();
+  const FaceModel model = mpeg4face::test::arkitTestHeadWithShapes();
+  writeGltf(model, head);
+  const auto csv = [&](const std::string& name, double shift) {
+    const std::string path = (dir / name).string();
+    std::ofstream f(path);
+    f << "fp,x,y,z\n";
+    for (const auto& [id, binding] : model.featurePoints) {
+      const Eigen::Vector3d p = *model.featurePointPosition(id) + Eigen::Vector3d(0, 0, shift);
+      f << id << ',' << p.x() << ',' << p.y() << ',' << p.z() << '\n';
+    }
+    return path;
+  };
+  const auto bound = runCli("arkit keys " + head + " --feature-points " +
+                            csv("on.csv", 0) + " -o " + out);
+  ASSERT_EQ(bound.status, 0) << bound.out;
+  EXPECT_TRUE(has(bound.out, "fap3_open_jaw@341")) << bound.out;
+  EXPECT_TRUE(has(bound.out, "warning: feature point 2.1 bound to vertex")) << bound.out;
+  std::filesystem::remove(out);
+
+  const auto far = runCli("arkit keys " + head + " --feature-points " + csv("off.csv", 5) +
+                          " -o " + out);
+  EXPECT_EQ(far.status, 1) << far.out;
+  EXPECT_TRUE(has(far.out, "feature point 2.1 is left free")) << far.out;
+  EXPECT_TRUE(has(far.out, "no FAP key could be made: feature point")) << far.out;
+  EXPECT_TRUE(has(far.out, "nothing written")) << far.out;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(CliArkit, ErrorsNameTheFileAndWriteNothing) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Internal: the closest point on a triangle set in 3D (CGAL's AABB tree), with the barycentric
-// weights of its triangle, for Facial Motion Cloning's hidden layers (docs/clone.md). CGAL is
-// heavy to compile: it stays in clone/surface_closest_point.cpp.
+// weights of its triangle, for Facial Motion Cloning's hidden layers (docs/clone.md) and for
+// binding free feature points to vertices (model/feature_point_snap.hpp). CGAL is heavy to
+// compile: it stays in model/surface_closest_point.cpp.
 #pragma once
 
 #include <Eigen/Core>
