@@ -325,10 +325,7 @@ def smooth_over(head: mpeg4face.FaceModel, mesh: str, keys: Keys, passes: int) -
     m = head.find_mesh(mesh)
     edges = mesh_edges(head.meshes[m])
     for displacements in {id(d): d for d in keys.values()}.values():
-        d = displacements[m]
-        for _ in range(passes):
-            d = 0.5 * d + 0.5 * neighbour_mean(edges, d)
-        displacements[m] = d
+        displacements[m] = relaxed(edges, displacements[m], passes)
 
 
 # Each eyelash vertex moves as the mean of this many skin vertices nearest to it: with 4, a
@@ -384,15 +381,22 @@ def neighbour_mean(edges: np.ndarray, d: np.ndarray) -> np.ndarray:
     return total / degree
 
 
+def relaxed(edges: np.ndarray, d: np.ndarray, passes: int,
+            where: np.ndarray | bool = True) -> np.ndarray:
+    """`d` with each vertex (of those `where` holds) moved halfway to its neighbours' mean,
+    `passes` times."""
+    for _ in range(passes):
+        d = np.where(where, 0.5 * d + 0.5 * neighbour_mean(edges, d), d)
+    return d
+
+
 def spread_lid_crease(head: mpeg4face.FaceModel, displacements: list[np.ndarray]) -> None:
     skin = head.find_mesh("skin")
     edges = mesh_edges(head.meshes[skin])
     d = displacements[skin]
     size = np.linalg.norm(d, axis=1)
     spread = ((size > 0) & (size < LID_SPREAD_BELOW * size.max()))[:, None]
-    for _ in range(LID_SPREAD_PASSES):
-        d = np.where(spread, 0.5 * d + 0.5 * neighbour_mean(edges, d), d)
-    displacements[skin] = d
+    displacements[skin] = relaxed(edges, d, LID_SPREAD_PASSES, spread)
 
 
 def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
