@@ -7,8 +7,12 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "codec/start_code_guard.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/spec.hpp"
 
@@ -430,6 +434,29 @@ void encodeDct(std::span<const FapFrame> frames, const FbaEncodeOptions& options
   const std::array<int, kFapCount> stepIndex = chooseStepIndices(frames, options.fapQuant);
   DctState st;
   std::size_t lastIntra = 0;
+  // Each plane made safe for a standard decoder once the bits after it are known, as the
+  // predictive encoder's (codec/start_code_guard.hpp); planeFrames: where each plane's frames
+  // are in stats.frameBits, and how many.
+  PlaneGuard guard(output.out);
+  std::vector<std::pair<std::size_t, int>> planeFrames;
+  const auto countBits = [&](std::size_t m) {  // the plane's bits, spread over its frames
+    const PlaneGuard::Span& plane = guard.planes()[m];
+    const std::uint64_t bits = plane.end - plane.start;
+    const auto [first, length] = planeFrames[m];
+    const auto n = static_cast<std::uint64_t>(length);
+    for (std::uint64_t k = 0; k < n; ++k)
+      output.stats.frameBits[first + k] = bits / n + (k < bits % n);
+  };
+  const auto secure = [&](std::size_t m, bool codeFollows) {
+    if (!guard.secure(m, codeFollows)) {
+      throw Error({}, 0, "start code emulation",
+                  "frame " + std::to_string(frames[planeFrames[m].first].number) +
+                      ": a DCT plane emulates a start code that no plane start code avoids");
+    }
+    if (const std::optional<std::size_t> moved = guard.takeMoved()) {
+      for (std::size_t k = *moved; k < guard.planes().size(); ++k) countBits(k);
+    }
+  };
   for (std::size_t first = 0; first < frames.size(); first += kN) {
     const auto segmentFrames =
         frames.subspan(first, std::min<std::size_t>(kN, frames.size() - first));
@@ -438,11 +465,10 @@ void encodeDct(std::span<const FapFrame> frames, const FbaEncodeOptions& options
         first == 0 || (options.intraPeriod > 0 &&
                        first - lastIntra >= static_cast<std::size_t>(options.intraPeriod));
     const std::size_t last = first + segmentFrames.size() - 1;
-    const std::uint64_t start = output.out.bitCount();
+    guard.open(intra, kFbaObjectPlaneStartCode);
     if (intra) {
       lastIntra = first;
       st.beginIntra(options.fapQuant, options.dcDivisor, seg.mask);
-      output.out.writeStartCode(kFbaObjectPlaneStartCode);
       writePlaneHeader(output.out, {true, rate, std::nullopt, framesToSkipAfter(frames, last)});
       writeIntraSettings(output.out, {options.fapQuant, seg.mask, false, kCodingTypeDct});
       output.out.writeBits(static_cast<std::uint32_t>(options.dcDivisor), kDcDivisorBits);
@@ -452,14 +478,17 @@ void encodeDct(std::span<const FapFrame> frames, const FbaEncodeOptions& options
                        {false, std::nullopt, std::nullopt, framesToSkipAfter(frames, last)});
     }
     SegmentWriter(output.out, st, stepIndex).write(seg, intra);
+    guard.close();
     appendFrames(seg, st, output.reconstruction.frames);
-    // The plane's bits, spread over its frames.
-    const std::uint64_t bits = output.out.bitCount() - start;
-    for (int n = 0; n < seg.length; ++n)
-      output.stats.frameBits.push_back(
-          bits / static_cast<std::uint64_t>(seg.length) +
-          (static_cast<std::uint64_t>(n) < bits % static_cast<std::uint64_t>(seg.length)));
+    planeFrames.emplace_back(output.stats.frameBits.size(), seg.length);
+    output.stats.frameBits.resize(output.stats.frameBits.size() +
+                                  static_cast<std::size_t>(seg.length));
+    countBits(planeFrames.size() - 1);
+    // The plane before this one is checked now that the bits after it are known.
+    if (planeFrames.size() >= 2) secure(planeFrames.size() - 2, false);
   }
+  // A start code follows the last plane: the end code.
+  if (!planeFrames.empty()) secure(planeFrames.size() - 1, true);
 }
 
 // ---------------------------------------------------------------------------------- decoder

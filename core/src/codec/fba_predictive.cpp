@@ -256,7 +256,8 @@ class PredictiveEncoder {
  public:
   PredictiveEncoder(std::span<const FapFrame> frames, const FbaEncodeOptions& options,
                     const FrameRateCode& rate, EncodeOutput& output)
-      : frames_(frames), options_(options), rate_(rate), output_(output), out_(output.out) {
+      : frames_(frames), options_(options), rate_(rate), output_(output), out_(output.out),
+        guard_(output.out) {
     if (options.rdoLambda > 0) rdo_ = rdoFaps(frames, options.fapQuant, options.rdoLambda);
   }
 
@@ -272,7 +273,7 @@ class PredictiveEncoder {
                     "frame " + std::to_string(frames_[begin].number) +
                         ": no intra plane the encoder tried avoids a byte-aligned 0x000001");
       }
-      if (writeGroup(begin, end, attempt)) return begin + planes_.size();
+      if (writeGroup(begin, end, attempt)) return begin + guard_.planes().size();
       rollBack(0);
     }
   }
@@ -283,12 +284,8 @@ class PredictiveEncoder {
   // boundaries), and wider intra ranges (i_new_max codes 1-3 larger: other intra symbols).
   static constexpr int kIntraAttempts = 8;
 
-  // Where each plane of the group lies in out_, for secure() and rollBack().
-  struct PlaneSpan {
-    uint64_t start = 0;  // its first bit (of the start code's stuffing, if it has one)
-    uint64_t body = 0;   // its first bit after the start code
-    uint64_t end = 0;
-    bool startCode = false;
+  // What rollBack() restores of each plane of the group (guard_ has where it lies in out_).
+  struct PlaneStats {
     size_t frame = 0;  // its index in stats.frameBits and the reconstruction
     int clippedBefore = 0;
   };
@@ -308,7 +305,8 @@ class PredictiveEncoder {
     const std::array<std::array<std::optional<uint32_t>, kFapCount>, 4> codes =
         chooseRanges(begin, end);
 
-    planes_.clear();
+    guard_.clear();
+    planeStats_.clear();
     openPlane(true);
     std::optional<TimeCode> timeCode;
     if (attempt % 2 == 1) timeCode = timeCodeOf(frames_[begin].number);
@@ -336,39 +334,47 @@ class PredictiveEncoder {
       encodeData(frames_[k], false, k - begin);
       closePlane();
       // The plane before this one is checked now that the bits after it are known.
-      const size_t j = planes_.size() - 2;
+      const size_t j = guard_.planes().size() - 2;
       if (secure(j, false)) continue;
       if (j == 0) return false;
       rollBack(j);  // the group ends before frame j, and the next starts there
       break;
     }
     // A start code follows the group's last plane: the next intra plane's or the end code.
-    while (!secure(planes_.size() - 1, true)) {
-      if (planes_.size() == 1) return false;
-      rollBack(planes_.size() - 1);
+    while (!secure(guard_.planes().size() - 1, true)) {
+      if (guard_.planes().size() == 1) return false;
+      rollBack(guard_.planes().size() - 1);
     }
     return true;
   }
 
   void openPlane(bool startCode) {
-    const uint64_t start = out_.bitCount();
-    planes_.push_back({start, start, start, startCode, output_.stats.frameBits.size(),
-                       output_.stats.clippedValues});
-    if (startCode) {
-      out_.writeStartCode(kFbaObjectPlaneStartCode);
-      planes_.back().body = out_.bitCount();
-    }
+    guard_.open(startCode, kFbaObjectPlaneStartCode);
+    planeStats_.push_back({output_.stats.frameBits.size(), output_.stats.clippedValues});
   }
   void closePlane() {
-    PlaneSpan& plane = planes_.back();
-    plane.end = out_.bitCount();
+    guard_.close();
+    const PlaneGuard::Span& plane = guard_.planes().back();
     output_.stats.frameBits.push_back(plane.end - plane.start);
+  }
+
+  // guard_.secure(j), with the frames' bits counted again where a start code moved planes.
+  bool secure(size_t j, bool codeFollows) {
+    const bool safe = guard_.secure(j, codeFollows);
+    if (const std::optional<size_t> moved = guard_.takeMoved()) {
+      for (size_t m = *moved; m < guard_.planes().size(); ++m) {
+        const PlaneGuard::Span& plane = guard_.planes()[m];
+        output_.stats.frameBits[planeStats_[m].frame] = plane.end - plane.start;
+      }
+    }
+    return safe;
   }
 
   // Drops planes j.. of the group (all of it and what its intra plane set, for j = 0).
   void rollBack(size_t j) {
-    const PlaneSpan& plane = planes_[j];
-    out_.truncate(plane.start);
+    const PlaneStats plane = planeStats_[j];
+    guard_.rollBack(j);
+    planeStats_.resize(j);
     output_.stats.frameBits.resize(plane.frame);
     output_.reconstruction.frames.resize(plane.frame);
     output_.stats.clippedValues = plane.clippedBefore;
@@ -379,63 +385,11 @@ class PredictiveEncoder {
       state_.intraRange = kept_.intraRange;
       state_.interRange = kept_.interRange;
     }
-    planes_.resize(j);
   }
 
   TimeCode timeCodeOf(int number) const {
     const auto seconds = static_cast<uint32_t>(number / framesPerSecond(rate_));
     return {seconds / 3600 % 32, seconds / 60 % 60, seconds % 60};
-  }
-
-  // Whether a standard decoder misreads plane j (codec/start_code_guard.hpp); the bits after
-  // it are out_'s, or, if `codeFollows` and none are written yet, the start code to follow.
-  bool violates(size_t j, bool codeFollows) const {
-    codes_.clear();
-    for (const PlaneSpan& p : planes_) {
-      if (p.startCode) codes_.push_back(startCodeAfter(p.start));
-    }
-    const PlaneSpan& s = planes_[j];
-    return misreadByStandardDecoder(out_, {s.start, s.end, s.startCode}, codes_, codeFollows,
-                                    bits_);
-  }
-
-  // Makes plane j safe (violates() false), given that a start code follows it if
-  // `codeFollows`: first with a plane start code after it (stuffing ends the runs its tail
-  // and the next header make), then with one before it (the syntax allows
-  // fba_object_plane_start_code before any plane; it aligns the plane anew and nothing can be
-  // taken for stuffing before it). Both leave the coded bits as they are. False if j stays
-  // unsafe.
-  bool secure(size_t j, bool codeFollows) {
-    if (!violates(j, codeFollows)) return true;
-    if (j + 1 < planes_.size() && !planes_[j + 1].startCode) {
-      insertStartCode(j + 1);
-      if (!violates(j, true)) return true;
-      codeFollows = true;
-    }
-    if (planes_[j].startCode) return false;
-    insertStartCode(j);
-    // The start code moved what follows plane j - 1, so that plane is checked again.
-    return !violates(j, codeFollows) && secure(j - 1, true);
-  }
-
-  // fba_object_plane_start_code before plane j. The planes after it move along; those with a
-  // start code get their stuffing anew, since it depends on where they now start.
-  void insertStartCode(size_t j) {
-    std::vector<BitWriter> bodies;
-    for (size_t m = j; m < planes_.size(); ++m) {
-      bodies.push_back(out_.slice(planes_[m].body, planes_[m].end));
-    }
-    out_.truncate(planes_[j].start);
-    planes_[j].startCode = true;
-    for (size_t m = j; m < planes_.size(); ++m) {
-      PlaneSpan& plane = planes_[m];
-      plane.start = out_.bitCount();
-      if (plane.startCode) out_.writeStartCode(kFbaObjectPlaneStartCode);
-      plane.body = out_.bitCount();
-      out_.append(bodies[m - j]);
-      plane.end = out_.bitCount();
-      output_.stats.frameBits[plane.frame] = plane.end - plane.start;
-    }
   }
 
   bool trellis() const { return options_.rdoTrellis && options_.rdoLambda > 0; }
@@ -701,11 +655,10 @@ class PredictiveEncoder {
   std::vector<int> histogram_;                 // shrinkInterRange's, kept to spare allocations
   std::array<TrellisLevels, kFapCount> plan_;  // the group's levels, with rdoTrellis
   std::array<int64_t, kFapCount> unclipped_{};  // countClipped's reconstruction
-  std::vector<PlaneSpan> planes_;               // the group's planes
+  PlaneGuard guard_;                            // the group's planes, made safe
+  std::vector<PlaneStats> planeStats_;          // and what rollBack() restores of each
   KeptRanges kept_;                             // the ranges before the group's intra plane
   int widen_ = 0;  // chooseRanges sends i_new_max this much wider (an intra plane's attempt)
-  mutable std::vector<bool> bits_;  // violates()'s, kept to spare allocations
-  mutable std::vector<uint64_t> codes_;
 };
 
 }  // namespace

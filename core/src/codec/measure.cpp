@@ -125,8 +125,9 @@ FapComparison compareFapStreams(const FapStream& original, const FapStream& deco
 FapStream alignByFrameNumber(const FapStream& original, FapStream decoded) {
   if (original.frames.empty()) return decoded;
   const int first = original.frames.front().number;
-  const auto keep = std::find_if(decoded.frames.begin(), decoded.frames.end(),
-                                 [&](const FapFrame& f) { return f.number >= first || f.mask.any(); });
+  const auto keep =
+      std::find_if(decoded.frames.begin(), decoded.frames.end(),
+                   [&](const FapFrame& f) { return f.number >= first || f.mask.any(); });
   decoded.frames.erase(decoded.frames.begin(), keep);
   return decoded;
 }

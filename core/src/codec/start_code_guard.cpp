@@ -39,4 +39,63 @@ bool misreadByStandardDecoder(const BitWriter& out, PlaneBits plane,
   return !plane.startCode && zeros((plane.start + 7) & ~uint64_t{7});
 }
 
+void PlaneGuard::open(bool startCode, uint32_t code) {
+  code_ = code;
+  const uint64_t start = out_.bitCount();
+  planes_.push_back({start, start, start, startCode});
+  if (startCode) {
+    out_.writeStartCode(code);
+    planes_.back().body = out_.bitCount();
+  }
+}
+
+bool PlaneGuard::violates(size_t j, bool codeFollows) const {
+  codes_.clear();
+  for (const Span& p : planes_) {
+    if (p.startCode) codes_.push_back(startCodeAfter(p.start));
+  }
+  const Span& s = planes_[j];
+  return misreadByStandardDecoder(out_, {s.start, s.end, s.startCode}, codes_, codeFollows,
+                                  bits_);
+}
+
+bool PlaneGuard::secure(size_t j, bool codeFollows) {
+  if (!violates(j, codeFollows)) return true;
+  if (j + 1 < planes_.size() && !planes_[j + 1].startCode) {
+    insertStartCode(j + 1);
+    if (!violates(j, true)) return true;
+    codeFollows = true;
+  }
+  if (planes_[j].startCode) return false;
+  insertStartCode(j);
+  // The start code moved what follows plane j - 1, so that plane is checked again.
+  return !violates(j, codeFollows) && (j == 0 || secure(j - 1, true));
+}
+
+// The planes after the new start code move along; those with a start code get their stuffing
+// anew, since it depends on where they now start.
+void PlaneGuard::insertStartCode(size_t j) {
+  std::vector<BitWriter> bodies;
+  for (size_t m = j; m < planes_.size(); ++m) {
+    bodies.push_back(out_.slice(planes_[m].body, planes_[m].end));
+  }
+  out_.truncate(planes_[j].start);
+  planes_[j].startCode = true;
+  for (size_t m = j; m < planes_.size(); ++m) {
+    Span& plane = planes_[m];
+    plane.start = out_.bitCount();
+    if (plane.startCode) out_.writeStartCode(code_);
+    plane.body = out_.bitCount();
+    out_.append(bodies[m - j]);
+    plane.end = out_.bitCount();
+  }
+  moved_ = std::min(moved_.value_or(j), j);
+}
+
+void PlaneGuard::rollBack(size_t j) {
+  out_.truncate(planes_[j].start);
+  planes_.resize(j);
+  if (moved_ && *moved_ >= j) moved_.reset();
+}
+
 }  // namespace mpeg4face

@@ -403,8 +403,9 @@ TEST(FbaCodec, HugeSkipMeetsTheFrameNumberLimit) {
   EXPECT_TRUE(contains(e, "more than 20000 frames")) << e.what();
 }
 
-// DCT planes (coding_type 1) go to the DCT mode (codec/fba_dct.cpp, tested in codec/test_dct_mode.cpp):
-// this one ends right after coding_type, so its dc_divisor reads as the 0 bits of padding.
+// DCT planes (coding_type 1) go to the DCT mode (codec/fba_dct.cpp, tested in
+// codec/test_dct_mode.cpp): this one ends right after coding_type, so its dc_divisor reads as
+// the 0 bits of padding.
 TEST(FbaCodec, DctCodingTypeGoesToTheDctMode) {
   BitWriter w;
   w.writeBits(0x000001BA, 32);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "codec/bit_io.hpp"
+#include "codec/start_code_guard.hpp"
 #include "fba_strict.hpp"
 #include "mpeg4face/codec/fba_codec.hpp"
 #include "mpeg4face/io/fap_file.hpp"
@@ -219,4 +220,52 @@ TEST(FbaStartCodes, AGroupEndsWhereNoStartCodeHelps) {
       mpeg4face::encodeFba(stream, {.fapQuant = 0, .intraPeriod = 18, .rdoLambda = 5e-3});
   EXPECT_EQ(encoding.stats.intraFrames, 5);
   EXPECT_EQ(mpeg4face::test::decodeBothWays(encoding.bytes), encoding.reconstruction);
+}
+
+// PlaneGuard, which both the predictive and the DCT encoder use, on planes built bit by bit:
+// plane 0 (after its start code) ends in 15 zeros, plane 1 opens with 15 zeros and a 1, which
+// together put 0x000001 at a byte boundary; a start code before plane 1 ends the run.
+TEST(FbaStartCodes, PlaneGuardEndsARunAcrossTwoPlanes) {
+  constexpr uint32_t kPlaneCode = 0x000001BB;
+  mpeg4face::BitWriter out;
+  mpeg4face::PlaneGuard guard(out);
+  const auto bits = [&](const std::string& text) {
+    for (const char c : text) out.writeBit(c == '1');
+  };
+  guard.open(true, kPlaneCode);
+  bits("1" + std::string(15, '0'));
+  guard.close();
+  guard.open(false, kPlaneCode);
+  bits(std::string(15, '0') + "11111");
+  guard.close();
+  const auto emulations = [&] {  // byte-aligned 0x000001 that are not the planes' start codes
+    int n = 0;
+    const std::vector<uint8_t>& b = out.bytes();
+    for (size_t i = 0; i + 3 < b.size(); ++i) {
+      n += b[i] == 0 && b[i + 1] == 0 && b[i + 2] == 1 && b[i + 3] != (kPlaneCode & 0xFF);
+    }
+    return n;
+  };
+  ASSERT_EQ(emulations(), 1);
+  EXPECT_TRUE(guard.secure(0, false));
+  EXPECT_TRUE(guard.planes()[1].startCode);
+  EXPECT_EQ(guard.takeMoved(), 1U);
+  EXPECT_FALSE(guard.takeMoved().has_value());
+  EXPECT_EQ(emulations(), 0);
+  EXPECT_TRUE(guard.secure(1, true));  // with the end code's stuffing after it
+}
+
+// A plane that emulates a start code inside itself, behind its own start code, cannot be made
+// safe by start codes: secure() says so (the encoders then write it otherwise, or refuse).
+TEST(FbaStartCodes, PlaneGuardReportsAPlaneNoStartCodeSaves) {
+  mpeg4face::BitWriter out;
+  mpeg4face::PlaneGuard guard(out);
+  guard.open(true, 0x000001BB);
+  for (int i = 0; i < 23; ++i) out.writeBit(false);
+  for (int i = 0; i < 9; ++i) out.writeBit(true);
+  guard.close();
+  EXPECT_FALSE(guard.secure(0, true));
+  guard.rollBack(0);
+  EXPECT_EQ(out.bitCount(), 0U);
+  EXPECT_TRUE(guard.planes().empty());
 }
