@@ -10,6 +10,7 @@
 
 #include "arguments.hpp"
 #include "commands.hpp"
+#include "feature_points.hpp"
 #include "mpeg4face/arkit/capture.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/io/fap_file.hpp"
@@ -67,10 +68,13 @@ ArkitCaptureFace loadFace(const CaptureArgs& args) {
     }
   }
   std::fprintf(stderr, "face %s: preparing...\n", path.string().c_str());
-  const FaceModel head = readModel(path);
+  FaceModel head = readModel(path);
+  std::vector<std::string> warnings;
+  bindFeaturePoints(std::nullopt, head, warnings);  // free points on the skin to its vertices
   try {
     ArkitCaptureFace face = prepareArkitCaptureFace(head);
-    for (const std::string& w : face.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    warnings.insert(warnings.end(), face.warnings.begin(), face.warnings.end());
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::fprintf(stderr, "face %s: %zu vertices in the face area, %zu FAP columns (%s)\n",
                  path.string().c_str(), face.area.size(), face.columnFap.size(),
                  face.fromTables ? "from its FAP keys" : "no FAP keys: the FAPs' definition");

@@ -159,6 +159,27 @@ def test_cli_to_fap_and_back(sample, tmp_path):
     assert not (tmp_path / "bad.fap").exists()
 
 
+def test_cli_to_fap_on_a_head_with_free_feature_points(sample, tmp_path):
+    # The head's feature points as free positions (another tool's landmarks): to-fap binds
+    # those on the skin to their vertices and makes the same stream (issue 42).
+    cli = Path(mpeg4face.__file__).resolve().parents[2] / "bin/mpeg4face"
+    head = mpeg4face.read_gltf(sample["glb"])
+    head.feature_points = {k: mpeg4face.FeaturePointBinding(position=head.feature_point_position(k))
+                           for k in head.feature_points}
+    free = tmp_path / "free.glb"
+    mpeg4face.write_gltf(head, free)
+    streams = []
+    for face in (sample["glb"], free):
+        out = tmp_path / (Path(face).stem + ".fap")
+        run = subprocess.run([cli, "arkit", "to-fap", CAPTURE, "--face", face, "-o", out],
+                             capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
+        streams.append(mpeg4face.read_fap(out))
+    assert "feature point 2.1 bound to vertex" in run.stderr, run.stderr
+    np.testing.assert_array_equal(streams[0].mask, streams[1].mask)
+    np.testing.assert_array_equal(streams[0].values, streams[1].values)
+
+
 def assert_faithful(fidelity: dict, error_p95: float) -> None:
     """Issue 41's limits: the FAP playback's bumps within 1.5 times the ARKit playback's at
     the 99th percentile (over the face and near the feature points), within 2 times at the

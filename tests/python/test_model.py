@@ -352,7 +352,8 @@ def test_snap_feature_points_binds_free_points_on_the_surface():
                                       "7.1": FeaturePointBinding(position=[1, 1, -0.01])})
     snapped, notes, unbound = mpeg4face.snap_feature_points(model)
     assert snapped.feature_points["2.1"].mesh == 0 and snapped.feature_points["2.1"].vertex == 2
-    assert [n.split(" (")[0] for n in notes] == ["feature point 2.1 bound to vertex 2 of mesh 'quad'"]
+    assert [n.split(" (")[0] for n in notes] == [
+        "feature point 2.1 bound to vertex 2 of mesh 'quad'"]
     assert len(unbound) == 1 and unbound[0].startswith("feature point 9.3 is left free")
     assert snapped.feature_points["9.3"].mesh == -1 and snapped.feature_points["7.1"].mesh == -1
     assert model.feature_points["2.1"].mesh == -1  # the input is not changed
