@@ -465,7 +465,7 @@ void encodeDct(std::span<const FapFrame> frames, const FbaEncodeOptions& options
         first == 0 || (options.intraPeriod > 0 &&
                        first - lastIntra >= static_cast<std::size_t>(options.intraPeriod));
     const std::size_t last = first + segmentFrames.size() - 1;
-    guard.open(intra, kFbaObjectPlaneStartCode);
+    guard.open(intra);
     if (intra) {
       lastIntra = first;
       st.beginIntra(options.fapQuant, options.dcDivisor, seg.mask);

@@ -349,7 +349,7 @@ class PredictiveEncoder {
   }
 
   void openPlane(bool startCode) {
-    guard_.open(startCode, kFbaObjectPlaneStartCode);
+    guard_.open(startCode);
     planeStats_.push_back({output_.stats.frameBits.size(), output_.stats.clippedValues});
   }
   void closePlane() {

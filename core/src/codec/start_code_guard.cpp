@@ -5,9 +5,17 @@
 #include <optional>
 
 namespace mpeg4face {
+namespace {
 
-bool misreadByStandardDecoder(const BitWriter& out, PlaneBits plane,
-                              std::span<const uint64_t> codes, bool codeFollows,
+// Where BitWriter::writeStartCode(), called at `position`, puts the code: after a 0 and 1s to
+// the byte boundary, or a whole 0111 1111 byte when aligned.
+uint64_t startCodeAfter(uint64_t position) { return (position | 7) + 1; }
+
+// Whether a standard decoder misreads `plane` (PlaneGuard::secure), the start codes being at
+// `codes` (bit positions). The bits after the plane are `out`'s, or, if `codeFollows` and none
+// are written yet, the start code that will follow. `bits` is scratch.
+bool misreadByStandardDecoder(const BitWriter& out, const PlaneGuard::Span& plane,
+                              const std::vector<uint64_t>& codes, bool codeFollows,
                               std::vector<bool>& bits) {
   const uint64_t from = plane.start >= 24 ? (plane.start - 24) & ~uint64_t{7} : 0;
   bits.clear();
@@ -39,12 +47,13 @@ bool misreadByStandardDecoder(const BitWriter& out, PlaneBits plane,
   return !plane.startCode && zeros((plane.start + 7) & ~uint64_t{7});
 }
 
-void PlaneGuard::open(bool startCode, uint32_t code) {
-  code_ = code;
+}  // namespace
+
+void PlaneGuard::open(bool startCode) {
   const uint64_t start = out_.bitCount();
   planes_.push_back({start, start, start, startCode});
   if (startCode) {
-    out_.writeStartCode(code);
+    out_.writeStartCode(kFbaObjectPlaneStartCode);
     planes_.back().body = out_.bitCount();
   }
 }
@@ -54,9 +63,7 @@ bool PlaneGuard::violates(size_t j, bool codeFollows) const {
   for (const Span& p : planes_) {
     if (p.startCode) codes_.push_back(startCodeAfter(p.start));
   }
-  const Span& s = planes_[j];
-  return misreadByStandardDecoder(out_, {s.start, s.end, s.startCode}, codes_, codeFollows,
-                                  bits_);
+  return misreadByStandardDecoder(out_, planes_[j], codes_, codeFollows, bits_);
 }
 
 bool PlaneGuard::secure(size_t j, bool codeFollows) {
@@ -84,7 +91,7 @@ void PlaneGuard::insertStartCode(size_t j) {
   for (size_t m = j; m < planes_.size(); ++m) {
     Span& plane = planes_[m];
     plane.start = out_.bitCount();
-    if (plane.startCode) out_.writeStartCode(code_);
+    if (plane.startCode) out_.writeStartCode(kFbaObjectPlaneStartCode);
     plane.body = out_.bitCount();
     out_.append(bodies[m - j]);
     plane.end = out_.bitCount();

@@ -1,39 +1,18 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Internal: whether a standard decoder, reading fba_object as 14496-2's syntax is written
-// (nextbits_bytealigned()), would misread a plane the predictive encoder wrote; the encoder
-// then writes it otherwise (codec/fba_predictive.cpp). docs/bitstream.md, "Start codes the
-// encoder never emulates".
+// Internal: the planes an encoder writes kept from misleading a standard decoder, one that
+// reads fba_object as 14496-2's syntax is written (nextbits_bytealigned()): the predictive and
+// DCT encoders (codec/fba_predictive.cpp, codec/fba_dct.cpp). docs/bitstream.md, "Start codes
+// the encoder never emulates".
 #pragma once
 
 #include <cstdint>
 #include <optional>
-#include <span>
 #include <utility>
 #include <vector>
 
 #include "codec/bit_io.hpp"
 
 namespace mpeg4face {
-
-// Where BitWriter::writeStartCode(), called at `position`, puts the code: after a 0 and 1s to
-// the byte boundary, or a whole 0111 1111 byte when aligned.
-inline uint64_t startCodeAfter(uint64_t position) { return (position | 7) + 1; }
-
-// A plane's bits in the writer: [start, end), from its start code's stuffing if it has one.
-struct PlaneBits {
-  uint64_t start = 0, end = 0;
-  bool startCode = false;
-};
-
-// True if the plane is misread: a byte-aligned 0x000001 that is none of the start codes at
-// `codes` (bit positions), where a run of zeros reaches across fields and segments (each
-// coder segment's stuffing counts only its own zeros); or, for a plane without a start code,
-// 23 zero bits where nextbits_bytealigned() looks from its first bit, which takes the plane
-// for stuffing before a start code. The bits after the plane are `out`'s, or, if
-// `codeFollows` and none are written yet, the start code that will follow. `bits` is scratch.
-bool misreadByStandardDecoder(const BitWriter& out, PlaneBits plane,
-                              std::span<const uint64_t> codes, bool codeFollows,
-                              std::vector<bool>& bits);
 
 // The planes an encoder writes into `out`, one after the other, each made safe for a standard
 // decoder once the bits after it are known (secure()): the predictive encoder's planes of a
@@ -51,7 +30,7 @@ class PlaneGuard {
   explicit PlaneGuard(BitWriter& out) : out_(out) {}
 
   // A plane starts at out's end, with fba_object_plane_start_code if `startCode`.
-  void open(bool startCode, uint32_t code);
+  void open(bool startCode);
   // The plane opened last ends at out's end.
   void close() { planes_.back().end = out_.bitCount(); }
   // Makes plane j safe given the bits after it (or, if `codeFollows` and there are none yet,
@@ -60,6 +39,11 @@ class PlaneGuard {
   // allows it before any plane: it aligns the plane anew and nothing before it can be taken
   // for stuffing); the plane before is then checked again. The coded bits stay as they are,
   // the planes after a new start code move. False if j stays unsafe.
+  // A plane is unsafe if a standard decoder misreads it: a byte-aligned 0x000001 that is no
+  // start code, where a run of zeros reaches across fields and segments (each coder
+  // segment's stuffing counts only its own zeros); or, for a plane without a start code, 23
+  // zero bits where nextbits_bytealigned() looks from its first bit, which takes the plane
+  // for stuffing before a start code.
   bool secure(size_t j, bool codeFollows);
   // Drops planes j.. and their bits.
   void rollBack(size_t j);
@@ -77,7 +61,6 @@ class PlaneGuard {
   void insertStartCode(size_t j);
 
   BitWriter& out_;
-  uint32_t code_ = 0;  // fba_object_plane_start_code
   std::vector<Span> planes_;
   std::optional<size_t> moved_;
   mutable std::vector<bool> bits_;  // violates()'s, kept to spare allocations

@@ -226,23 +226,23 @@ TEST(FbaStartCodes, AGroupEndsWhereNoStartCodeHelps) {
 // plane 0 (after its start code) ends in 15 zeros, plane 1 opens with 15 zeros and a 1, which
 // together put 0x000001 at a byte boundary; a start code before plane 1 ends the run.
 TEST(FbaStartCodes, PlaneGuardEndsARunAcrossTwoPlanes) {
-  constexpr uint32_t kPlaneCode = 0x000001BB;
   mpeg4face::BitWriter out;
   mpeg4face::PlaneGuard guard(out);
   const auto bits = [&](const std::string& text) {
     for (const char c : text) out.writeBit(c == '1');
   };
-  guard.open(true, kPlaneCode);
+  guard.open(true);
   bits("1" + std::string(15, '0'));
   guard.close();
-  guard.open(false, kPlaneCode);
+  guard.open(false);
   bits(std::string(15, '0') + "11111");
   guard.close();
   const auto emulations = [&] {  // byte-aligned 0x000001 that are not the planes' start codes
     int n = 0;
     const std::vector<uint8_t>& b = out.bytes();
+    const uint8_t plane = mpeg4face::kFbaObjectPlaneStartCode & 0xFF;
     for (size_t i = 0; i + 3 < b.size(); ++i) {
-      n += b[i] == 0 && b[i + 1] == 0 && b[i + 2] == 1 && b[i + 3] != (kPlaneCode & 0xFF);
+      n += b[i] == 0 && b[i + 1] == 0 && b[i + 2] == 1 && b[i + 3] != plane;
     }
     return n;
   };
@@ -260,7 +260,7 @@ TEST(FbaStartCodes, PlaneGuardEndsARunAcrossTwoPlanes) {
 TEST(FbaStartCodes, PlaneGuardReportsAPlaneNoStartCodeSaves) {
   mpeg4face::BitWriter out;
   mpeg4face::PlaneGuard guard(out);
-  guard.open(true, 0x000001BB);
+  guard.open(true);
   for (int i = 0; i < 23; ++i) out.writeBit(false);
   for (int i = 0; i < 9; ++i) out.writeBit(true);
   guard.close();
