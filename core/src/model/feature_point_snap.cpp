@@ -19,12 +19,17 @@ std::string percent(double fraction) {
   return text;
 }
 
+// A free point to bind: not 7.1 or 7.2, the centres of rotation inside the head.
+bool toBind(const std::string& id, const FeaturePointBinding& binding) {
+  return binding.mesh < 0 && !id.starts_with("7.");
+}
+
 }  // namespace
 
 FeaturePointSnap snapFeaturePointsToVertices(FaceModel& model, double tolerance) {
   FeaturePointSnap result;
   const bool anyFree = std::any_of(model.featurePoints.begin(), model.featurePoints.end(),
-                                   [](const auto& p) { return p.second.mesh < 0; });
+                                   [](const auto& p) { return toBind(p.first, p.second); });
   if (!anyFree) return result;
 
   // Every mesh in model space, as the feature points' positions are.
@@ -64,7 +69,7 @@ FeaturePointSnap snapFeaturePointsToVertices(FaceModel& model, double tolerance)
   const double size = (placed >= 3 ? pointsHigh - pointsLow : high - low).norm();
 
   for (auto& [id, binding] : model.featurePoints) {
-    if (binding.mesh >= 0 || id.starts_with("7.")) continue;
+    if (!toBind(id, binding)) continue;
     const Eigen::Vector3d& q = binding.position;
     double best = std::numeric_limits<double>::infinity();
     int mesh = -1;
