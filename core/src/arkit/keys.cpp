@@ -438,10 +438,14 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
   // over the area (for the viseme and expression keys) and among its sibling FAPs (for the
   // key written), then refitted so that keys sent together combine as the shapes do.
   std::vector<std::map<int, Points3>> keyMotion(out.mapping.keys.size());
+  std::vector<std::string> names;  // each key's shape key name
+  for (const ArkitFapKey& key : out.mapping.keys) {
+    names.push_back(
+        formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)}));
+  }
   for (std::size_t k = 0; k < out.mapping.keys.size(); ++k) {
     const ArkitFapKey& key = out.mapping.keys[k];
-    const std::string name =
-        formatShapeKeyName({key.fap, 0, key.amplitude, std::string(fapInfo(key.fap).name)});
+    const std::string& name = names[k];
     // An eyeball turn: the eye's Transform turns; the shape still moves the lids.
     std::vector<int> turned;
     if (key.transform >= 0) {
@@ -473,8 +477,8 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
   arkit::fitKeysToShapeCombinations(out.head, out.shapes, fapu, out.mapping, keyMotion);
   for (std::size_t k = 0; k < out.mapping.keys.size(); ++k) {
     const ArkitFapKey& key = out.mapping.keys[k];
+    const std::string& name = names[k];
     const std::string label(fapInfo(key.fap).name);
-    const std::string name = formatShapeKeyName({key.fap, 0, key.amplitude, label});
     for (auto& [m, d] : keyMotion[k]) {
       auto& keys = added[static_cast<std::size_t>(m)];
       if (reach[k] == 0) {
