@@ -668,7 +668,8 @@ class MeshMotion(TypedDict):
     edge_ratio_max: float
     edge_ratio_p99: float
     offending_vertices: _Int32
-    flipped_triangles: list[int]  # indices into the mesh's fan triangles
+    flipped_triangles: list[int]  # indices into the mesh's fan triangles; not contact folds
+    contact_folds: int  # flipped triangles where lips or lids meet
     new_intersections: list[tuple[int, int]]  # triangle pairs
     touching_self_intersections: int
     spike_vertices: _Int32  # ascending
@@ -682,6 +683,7 @@ class PoseMotion(TypedDict):
     edge_ratio_max: float
     edge_ratio_p99: float
     normal_flips: int
+    contact_folds: int
     new_self_intersections: int
     touching_self_intersections: int
     spikes: int

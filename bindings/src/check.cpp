@@ -33,7 +33,8 @@ py::dict poseDict(const PoseMotion& p) {
         "edge_ratio_p99"_a = m.edgeRatioP99,
         "offending_vertices"_a = py::array_t<int32_t>(
             static_cast<py::ssize_t>(m.offendingVertices.size()), m.offendingVertices.data()),
-        "flipped_triangles"_a = m.flippedTriangles, "new_intersections"_a = pairs,
+        "flipped_triangles"_a = m.flippedTriangles, "contact_folds"_a = m.contactFolds,
+        "new_intersections"_a = pairs,
         "touching_self_intersections"_a = m.touchingIntersections,
         "spike_vertices"_a = py::array_t<int32_t>(static_cast<py::ssize_t>(m.spikeVertices.size()),
                                                   m.spikeVertices.data()),
@@ -41,7 +42,8 @@ py::dict poseDict(const PoseMotion& p) {
   }
   py::dict d("name"_a = p.name, "stream"_a = p.stream, "frame"_a = p.frame,
              "edge_ratio_max"_a = p.edgeRatioMax, "edge_ratio_p99"_a = p.edgeRatioP99,
-             "normal_flips"_a = p.normalFlips, "new_self_intersections"_a = p.newIntersections,
+             "normal_flips"_a = p.normalFlips, "contact_folds"_a = p.contactFolds,
+             "new_self_intersections"_a = p.newIntersections,
              "touching_self_intersections"_a = p.touchingIntersections, "spikes"_a = p.spikes,
              "bump_p99_of_peak"_a = p.bumpP99, "bump_ratio_max"_a = p.bumpRatioMax,
              "lip_corner_outside_mw0"_a = optional(p.lipCornerOutside),
@@ -117,8 +119,8 @@ void bindCheck(py::module_& m) {
       "`mpeg4face check` takes them (max_lip_corner in MW0, min_lower_lip and spike_of_peak "
       "fractions). Returns a dict with the keys of `mpeg4face check --json`: passed, keys and "
       "frames (one dict per pose: name, stream, frame, edge_ratio_max, edge_ratio_p99, "
-      "normal_flips, new_self_intersections, touching_self_intersections, spikes, "
-      "bump_p99_of_peak, bump_ratio_max, lip_corner_outside_mw0, inner_lip_gap_mns0, failures, "
+      "normal_flips, contact_folds, new_self_intersections, touching_self_intersections, "
+      "spikes, bump_p99_of_peak, bump_ratio_max, lip_corner_outside_mw0, inner_lip_gap_mns0, failures, "
       "meshes: per mesh moved its offending_vertices (int32 array), flipped_triangles, "
       "new_intersections, spike_vertices (int32 array)), streams, neutral_self_intersections, "
       "neutral_lip_gap_mns0, lower_lip_share, failures, notes. progress(done, total) is "

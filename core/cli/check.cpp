@@ -177,6 +177,14 @@ void printSummary(const std::string& head, const MotionCheck& check) {
   for (const std::string& n : check.notes) std::printf("note: %s\n", n.c_str());
   std::printf("(%d self-intersecting triangle pairs in the neutral, not counted)\n",
               check.neutralIntersections);
+  int folds = 0;
+  for (const auto* poses : {&check.keys, &check.frames}) {
+    for (const PoseMotion& p : *poses) folds = std::max(folds, p.contactFolds);
+  }
+  if (folds > 0) {
+    std::printf("(up to %d triangles in a pose folded where lips or lids meet, not counted)\n",
+                folds);
+  }
 }
 
 nlohmann::ordered_json poseJson(const PoseMotion& p, const FaceModel& model) {
@@ -189,6 +197,7 @@ nlohmann::ordered_json poseJson(const PoseMotion& p, const FaceModel& model) {
   j["edge_ratio_max"] = p.edgeRatioMax;
   j["edge_ratio_p99"] = p.edgeRatioP99;
   j["normal_flips"] = p.normalFlips;
+  j["contact_folds"] = p.contactFolds;
   j["new_self_intersections"] = p.newIntersections;
   j["touching_self_intersections"] = p.touchingIntersections;
   j["spikes"] = p.spikes;

@@ -535,22 +535,23 @@ def test_sample_sentence_parts_the_lips(checked, streams, name):
 def test_sample_heads_move_well_in_every_frame(checked, streams, head, ict, name):
     """Every frame of every stream through the head's tables: skin edges at most twice as
     long or half as long (p99), the inner lip corners inside the outer ones (2% of MW0), no
-    new self-intersection of the skin beyond lips and lids touching (the ICT head's gums and
+    skin triangle turned over beyond lips and lids folding where they meet, no new
+    self-intersection of the skin beyond lips and lids touching (the ICT head's gums and
     tongue, a mesh of their own that already intersects itself in the neutral, are not
     skin)."""
     frames = checked[name]["frames"]
     assert len(frames) == sum(len(s) for s in streams)
-    skin = {"makehuman": head, "ict": ict}[name].find_mesh("skin")
-    assert skin >= 0
+    skin_mesh = {"makehuman": head, "ict": ict}[name].find_mesh("skin")
+    assert skin_mesh >= 0
 
-    def skin_intersections(frame: dict) -> int:
+    def skin(frame: dict, what: str) -> int:
         # check_motion names a mesh by its index (the CLI's JSON by its name).
-        return sum(len(m["new_intersections"]) for m in frame["meshes"] if m["mesh"] == skin)
+        return sum(len(m[what]) for m in frame["meshes"] if m["mesh"] == skin_mesh)
 
     bad = [(f["stream"], f["frame"], f["edge_ratio_p99"], f["lip_corner_outside_mw0"],
-            skin_intersections(f)) for f in frames
+            skin(f, "flipped_triangles"), skin(f, "new_intersections")) for f in frames
            if f["edge_ratio_p99"] > 2.0 or (f["lip_corner_outside_mw0"] or 0) > 0.02
-           or skin_intersections(f) > 0]
+           or skin(f, "flipped_triangles") > 0 or skin(f, "new_intersections") > 0]
     assert not bad, f"{len(bad)} of {len(frames)} frames, the first {bad[:5]}"
 
 

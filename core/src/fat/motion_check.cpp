@@ -89,6 +89,15 @@ struct MeshCheck {
     return keys;
   }
 
+  // All `n` vertices in the lip region, or all in the lid region: where lips or lids meet,
+  // skin may touch skin and fold (docs/motion-check.md, "Lips and lids meeting").
+  bool inContactRegion(const int* vertices, int n) const {
+    const auto all = [&](const std::vector<bool>& region) {
+      return std::all_of(vertices, vertices + n, [&](int v) { return region[v]; });
+    };
+    return all(lip) || all(lid);
+  }
+
   Eigen::Vector3d triangleNormal(const Points3& coord, std::size_t t) const {
     const Eigen::Vector3d a = coord.row(triangles[3 * t]).transpose();
     const Eigen::Vector3d b = coord.row(triangles[3 * t + 1]).transpose();
@@ -248,6 +257,7 @@ class Checker {
       pose.edgeRatioMax = std::max(pose.edgeRatioMax, m.edgeRatioMax);
       pose.edgeRatioP99 = std::max(pose.edgeRatioP99, m.edgeRatioP99);
       pose.normalFlips += static_cast<int>(m.flippedTriangles.size());
+      pose.contactFolds += m.contactFolds;
       pose.newIntersections += static_cast<int>(m.newIntersections.size());
       pose.touchingIntersections += m.touchingIntersections;
       pose.spikes += static_cast<int>(m.spikeVertices.size());
@@ -349,6 +359,10 @@ class Checker {
       const Eigen::Vector3d n = c.triangleNormal(coord, t);
       const double norms = n.norm() * c.normal[t].norm();
       if (norms > 0 && n.dot(c.normal[t]) < cosFlip * norms) {
+        if (c.inContactRegion(tri, 3)) {
+          ++out.contactFolds;
+          continue;
+        }
         out.flippedTriangles.push_back(static_cast<int>(t));
         offending.insert(offending.end(), tri, tri + 3);
       }
@@ -370,14 +384,11 @@ class Checker {
         if (std::binary_search(c.neutralPairs.begin(), c.neutralPairs.end(), key)) continue;
         const std::array<int, 2> pair{static_cast<int>(key >> 32),
                                       static_cast<int>(key & 0xffffffffu)};
-        bool lip = true, lid = true;
-        for (int t : pair) {
-          for (int k = 0; k < 3; ++k) {
-            lip = lip && c.lip[c.triangles[3 * t + k]];
-            lid = lid && c.lid[c.triangles[3 * t + k]];
-          }
-        }
-        if (lip || lid) {
+        const std::array<int, 6> corners{
+            c.triangles[3 * pair[0]],     c.triangles[3 * pair[0] + 1],
+            c.triangles[3 * pair[0] + 2], c.triangles[3 * pair[1]],
+            c.triangles[3 * pair[1] + 1], c.triangles[3 * pair[1] + 2]};
+        if (c.inContactRegion(corners.data(), 6)) {
           ++out.touchingIntersections;
           continue;
         }

@@ -34,6 +34,7 @@ MotionHead keyedHead() {
   dent(h, "expression4_lips", h.lipSheetB, -0.1);                // the same at the mouth
   h.key("expression5_corner", h.innerLeft, {0.3, 0, 0});       // 5% of MW0 outside 8.3
   h.key("expression6_corner", h.innerLeft, {0.21, 0, 0});      // 0.5%: within the limit
+  h.key("viseme1_lips_fold", h.lipSheetB, {0.15, 0.15, 0});  // as expression2, at the mouth
   h.key("fap3@1024", h.chin, {0, -1, 0});                      // MNS0 = 1: 1024 units
   h.key("fap3@1024", h.lowerLip, {0, -0.3, 0});
   return h;
@@ -111,6 +112,17 @@ TEST_F(MotionCheckTest, LipsTouchingIsNotAFailure) {
   // The dent: the centre's bump 0.06 is 60% of its motion 0.1.
   EXPECT_EQ(p.spikes, 0);
   EXPECT_NEAR(p.bumpRatioMax, 0.6, 1e-9);
+}
+
+TEST_F(MotionCheckTest, LipsFoldingWhereTheyMeetIsNotAFlip) {
+  const PoseMotion& p = pose(*check, "viseme1_lips_fold");
+  EXPECT_GE(p.contactFolds, 1);
+  EXPECT_EQ(p.normalFlips, 0);
+  EXPECT_FALSE(fails(p, "flipped")) << ::testing::PrintToString(p.failures);
+  ASSERT_EQ(p.meshes.size(), 1u);
+  EXPECT_TRUE(p.meshes[0].flippedTriangles.empty());
+  // The same fold away from the lips and lids is a flip (FlippedTriangle).
+  EXPECT_EQ(pose(*check, "expression2_flip").contactFolds, 0);
 }
 
 TEST_F(MotionCheckTest, InnerLipCornerOutsideTheOuterOne) {

@@ -26,7 +26,9 @@ struct MotionLimits {
   double edgeRatioP99 = 2.0;
   // A triangle is flipped when its normal turned by more than this.
   double flipDegrees = 120.0;
-  int normalFlips = 0;  // flipped triangles allowed per pose
+  // Flipped triangles allowed per pose, beyond folds where lips or lids meet: triangles whose
+  // three vertices all lie in the lip region or all in the lid region (below).
+  int normalFlips = 0;
   // New self-intersections allowed per pose, beyond touching: pairs whose six vertices all
   // lie in the lip region (within lipRegion * MW0 of a bound point 2.x or 8.x) or all in
   // the lid region (within lidRegion * ES0 of a bound point 3.x), in the neutral face.
@@ -59,7 +61,8 @@ struct MeshMotion {
   double edgeRatioMax = 1, edgeRatioP99 = 1;
   std::vector<int> stretchedVertices;  // ends of edges past the edge-ratio limit
   // Triangles as indices into IndexedFaceSet::triangles() / 3.
-  std::vector<int> flippedTriangles;
+  std::vector<int> flippedTriangles;  // not folds at contact
+  int contactFolds = 0;               // flipped triangles within the lips or the lids
   std::vector<std::array<int, 2>> newIntersections;  // not in the neutral, not touching
   int touchingIntersections = 0;                     // new pairs within the lips or the lids
   // The bump (model/surface_bump.hpp): p99 of bump / peak over the vertices that move at
@@ -80,7 +83,7 @@ struct PoseMotion {
   int frame = -1;                             // frame number in the stream
   std::vector<MeshMotion> meshes;             // the meshes the pose moves
   double edgeRatioMax = 1, edgeRatioP99 = 1;  // worst mesh
-  int normalFlips = 0, newIntersections = 0, touchingIntersections = 0;
+  int normalFlips = 0, contactFolds = 0, newIntersections = 0, touchingIntersections = 0;
   int spikes = 0;                        // spike vertices, all meshes
   double bumpP99 = 0, bumpRatioMax = 0;  // worst mesh
   // max over both sides of (inner corner - outer corner) along the mouth, outwards, in MW0:
