@@ -292,9 +292,10 @@ def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
         print(f"clone: {warning}", file=sys.stderr)
     keys = {c["name"]: every_vertex(head, c) for c in cloned["copies"]
             if c["fap"] not in EYEBALL_FAPS}
-    smooth_over(head, "skin", {n: d for n, d in keys.items()
-                               if mpeg4face.parse_shape_key_name(n)["fap"] > 2},
-                CLONE_SMOOTHING_PASSES)
+    low_level = {n: d for n, d in keys.items() if mpeg4face.parse_shape_key_name(n)["fap"] > 2}
+    smooth_over(head, "skin", low_level, CLONE_SMOOTHING_PASSES)
+    feather_over(head, "skin", {n: d for n, d in keys.items() if n not in low_level},
+                 CLONE_FEATHER_PASSES)
     lashes_follow_skin(head, keys)
     return keys
 
@@ -317,6 +318,26 @@ def every_vertex(head: mpeg4face.FaceModel, shape: dict) -> list[np.ndarray]:
 # with 2 passes, docs/samples.md). The viseme and expression keys, made of ARKit shapes and
 # not refitted, need none: smoothed, their open mouths opened less.
 CLONE_SMOOTHING_PASSES = 2
+
+
+# Passes of the same smoothing given to the viseme and expression keys' fringe only, the skin
+# each moves at most CLONE_FEATHER_BELOW of its largest motion: a key's cloned region ends in
+# a step. Under the chin a vertex stood still in every viseme and expression while its
+# neighbours moved 63% of the key's largest motion on average, and a strip along the neck's
+# cut edge moved while the skin above it stood still: spike vertices in 206 of the 1091 frames
+# of the sample streams; feathered, 24 (in the nostrils and under the chin, made by the FAP
+# keys; docs/motion-check.md). The skin that moves more keeps its motion: the mouths open as
+# far.
+CLONE_FEATHER_PASSES = 2
+CLONE_FEATHER_BELOW = 0.2
+
+
+def feather_over(head: mpeg4face.FaceModel, mesh: str, keys: Keys, passes: int) -> None:
+    """Each key's fringe of `mesh` relaxed: the cloned region's edge feathered."""
+    m = head.find_mesh(mesh)
+    edges = mesh_edges(head.meshes[m])
+    for d in keys.values():
+        d[m] = relaxed_fringe(edges, d[m], passes, CLONE_FEATHER_BELOW, still=True)
 
 
 def smooth_over(head: mpeg4face.FaceModel, mesh: str, keys: Keys, passes: int) -> None:
@@ -390,13 +411,20 @@ def relaxed(edges: np.ndarray, d: np.ndarray, passes: int,
     return d
 
 
+def relaxed_fringe(edges: np.ndarray, d: np.ndarray, passes: int, below: float,
+                   still: bool) -> np.ndarray:
+    """`d` relaxed over the vertices it moves at most `below` of its largest motion (the
+    still ones too if `still`)."""
+    size = np.linalg.norm(d, axis=1)
+    fringe = (size <= below * size.max()) & (still | (size > 0))
+    return relaxed(edges, d, passes, fringe[:, None])
+
+
 def spread_lid_crease(head: mpeg4face.FaceModel, displacements: list[np.ndarray]) -> None:
     skin = head.find_mesh("skin")
     edges = mesh_edges(head.meshes[skin])
-    d = displacements[skin]
-    size = np.linalg.norm(d, axis=1)
-    spread = ((size > 0) & (size < LID_SPREAD_BELOW * size.max()))[:, None]
-    displacements[skin] = relaxed(edges, d, LID_SPREAD_PASSES, spread)
+    displacements[skin] = relaxed_fringe(edges, displacements[skin], LID_SPREAD_PASSES,
+                                         LID_SPREAD_BELOW, still=False)
 
 
 def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
