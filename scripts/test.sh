@@ -20,8 +20,16 @@ skipped=0
 counted() {  # counted LOG COMMAND...: runs COMMAND, keeps its output in LOG for tally
   "${@:2}" 2>&1 | tee "build/logs/$1"
 }
-tally_ctest() {
+tally_ctest() {  # tally_ctest LOG BUILD_DIR
   local total skip
+  # GoogleTest reports the tests of a suite whose SetUpTestSuite threw as skipped, and ctest
+  # passes them: that is a failure.
+  if grep -q 'SetUpTestSuite or TearDownTestSuite' "$2/Testing/Temporary/LastTest.log"; then
+    echo "C++ tests: a test suite's set-up or tear-down failed, its tests skipped:" >&2
+    grep -m5 -E 'thrown in (SetUp|TearDown)TestSuite|Failure' \
+      "$2/Testing/Temporary/LastTest.log" >&2
+    exit 1
+  fi
   total=$(sed -n 's/.*tests passed, 0 tests failed out of \([0-9]*\).*/\1/p' "build/logs/$1")
   skip=$(grep -c '(Skipped)' "build/logs/$1" || true)
   passed=$((passed + total - skip)); skipped=$((skipped + skip))
@@ -44,7 +52,7 @@ export MPEG4FACE_GLTF_VALIDATOR="node $root/tests/tools/validate_gltf.mjs"
 step "C++ tests"
 # The python and blender labels are the steps below, run there with their own output.
 counted ctest.log ctest --test-dir build/release --output-on-failure -j"$jobs" -LE "python|blender"
-tally_ctest ctest.log
+tally_ctest ctest.log build/release
 
 step "Python tests"
 PYTHONPATH="$root/build/release/python" \
@@ -88,7 +96,7 @@ step "C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer"
 CXX=clang++ scripts/build.sh build/sanitize -DMPEG4FACE_FUZZ=ON
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   counted ctest-sanitize.log ctest --test-dir build/sanitize --output-on-failure -j"$jobs"
-tally_ctest ctest-sanitize.log
+tally_ctest ctest-sanitize.log build/sanitize
 
 step "fuzz targets (${MPEG4FACE_FUZZ_SECONDS:-20} s each)"
 mkdir -p build/sanitize/artifacts
