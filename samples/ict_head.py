@@ -142,6 +142,27 @@ def read_ict() -> tuple[np.ndarray, list[np.ndarray], list[int], dict[str, np.nd
     return obj.coord, faces, landmarks, expressions
 
 
+# ICT's expressions move some vertices alone, their whole one-ring still, by up to 0.03 cm:
+# 26 of them (the right side's, sculpted on a slightly different neutral) move two gum
+# vertices beside the tongue by 0.017 and 0.004 cm, most move dozens of vertices by float
+# rounding (1e-5 cm). That is no motion, but every FAP key made of those shapes carries it:
+# the tongue's sliver triangles there turned over in 734 of the sample streams' 1091 frames
+# and the vertex stood out as a spike in 180 (docs/samples.md). Such offsets are dropped.
+ISOLATED_BELOW = 0.05  # cm
+
+
+def drop_isolated_offsets(faces: list[np.ndarray], expressions: dict[str, np.ndarray]) -> None:
+    """Each expression's vertices that move less than ISOLATED_BELOW while every neighbour
+    stays still, left still."""
+    edges = np.concatenate([np.c_[f, np.roll(f, -1)] for f in faces])
+    for d in expressions.values():
+        size = np.linalg.norm(d, axis=1)
+        ring = np.zeros(len(d))
+        np.maximum.at(ring, edges[:, 0], size[edges[:, 1]])
+        np.maximum.at(ring, edges[:, 1], size[edges[:, 0]])
+        d[(size < ISOLATED_BELOW) & (ring == 0)] = 0
+
+
 def part_faces(faces: list[np.ndarray], name: str) -> list[np.ndarray]:
     out = [f for a, b in PARTS[name] for f in faces[a:b + 1]]
     if name in TEETH_VERTICES:
@@ -495,6 +516,7 @@ def build(with_keys: bool = True) -> tuple[mpeg4face.FaceModel, dict[str, Rule]]
     """The ICT head (metres) with feature points and expression shapes; with_keys: also
     the FAP keys from mpeg4face.arkit_fap_keys when the module has it."""
     V, faces, landmarks, expressions = read_ict()
+    drop_isolated_offsets(faces, expressions)
     centres = {eye: eyeball_centre(V, part_faces(faces, eye)) for eye in ("eye_left", "eye_right")}
     fp = pick_feature_points(V, faces, landmarks, centres, expressions["jawOpen"])
     add_eye_turns(V, faces, expressions, centres)
