@@ -672,6 +672,7 @@ class MeshMotion(TypedDict):
     contact_folds: int  # flipped triangles where lips or lids meet
     new_intersections: list[tuple[int, int]]  # triangle pairs
     touching_self_intersections: int
+    own_shape_faults: int  # flips, pairs and spikes the head's own shapes make too
     spike_vertices: _Int32  # ascending
     bump_p99_of_peak: float
     bump_ratio_max: float
@@ -687,6 +688,7 @@ class PoseMotion(TypedDict):
     new_self_intersections: int
     touching_self_intersections: int
     spikes: int
+    own_shape_faults: int
     bump_p99_of_peak: float
     bump_ratio_max: float
     lip_corner_outside_mw0: float | None
@@ -710,6 +712,7 @@ class MotionCheck(TypedDict):
     lower_lip_share: float | None
     failures: list[str]
     notes: list[str]
+    own_shapes: list[str]  # the head's shape keys outside the grammar, measured first
 
 def check_motion(
     face: FaceModel | MpegFace,
@@ -726,6 +729,7 @@ def check_motion(
     min_lower_lip: float = 0.5,
     lip_region: float = 0.25,
     lid_region: float = 0.2,
+    own_shapes: bool = True,
     progress: Callable[[int, int], None] | None = None,
 ) -> MotionCheck: ...
 

@@ -36,6 +36,7 @@ py::dict poseDict(const PoseMotion& p) {
         "flipped_triangles"_a = m.flippedTriangles, "contact_folds"_a = m.contactFolds,
         "new_intersections"_a = pairs,
         "touching_self_intersections"_a = m.touchingIntersections,
+        "own_shape_faults"_a = m.ownShapeFaults,
         "spike_vertices"_a = py::array_t<int32_t>(static_cast<py::ssize_t>(m.spikeVertices.size()),
                                                   m.spikeVertices.data()),
         "bump_p99_of_peak"_a = m.bumpP99, "bump_ratio_max"_a = m.bumpRatioMax));
@@ -45,6 +46,7 @@ py::dict poseDict(const PoseMotion& p) {
              "normal_flips"_a = p.normalFlips, "contact_folds"_a = p.contactFolds,
              "new_self_intersections"_a = p.newIntersections,
              "touching_self_intersections"_a = p.touchingIntersections, "spikes"_a = p.spikes,
+             "own_shape_faults"_a = p.ownShapeFaults,
              "bump_p99_of_peak"_a = p.bumpP99, "bump_ratio_max"_a = p.bumpRatioMax,
              "lip_corner_outside_mw0"_a = optional(p.lipCornerOutside),
              "inner_lip_gap_mns0"_a = optional(p.innerLipGap), "failures"_a = p.failures);
@@ -65,7 +67,7 @@ py::dict checkDict(const MotionCheck& c) {
                   "streams"_a = streams, "neutral_self_intersections"_a = c.neutralIntersections,
                   "neutral_lip_gap_mns0"_a = optional(c.neutralLipGap),
                   "lower_lip_share"_a = optional(c.lowerLipShare), "failures"_a = c.failures,
-                  "notes"_a = c.notes);
+                  "notes"_a = c.notes, "own_shapes"_a = c.ownShapes);
 }
 
 }  // namespace
@@ -76,7 +78,8 @@ void bindCheck(py::module_& m) {
       [](py::handle face, const std::vector<FapStream>& streams, double maxEdgeRatio,
          double flipDegrees, int maxFlips, int maxIntersections, int maxSpikes, double spikeRatio,
          double spikeOfPeak, double maxLipCorner, double minLowerLip, double lipRegion,
-         double lidRegion, std::function<void(std::size_t, std::size_t)> progress) {
+         double lidRegion, bool ownShapes,
+         std::function<void(std::size_t, std::size_t)> progress) {
         MotionLimits limits;
         limits.edgeRatioP99 = maxEdgeRatio;
         limits.flipDegrees = flipDegrees;
@@ -89,6 +92,7 @@ void bindCheck(py::module_& m) {
         limits.lowerLipShare = minLowerLip;
         limits.lipRegion = lipRegion;
         limits.lidRegion = lidRegion;
+        limits.ownShapes = ownShapes;
         MotionProgress report;
         if (progress) {
           report = [&progress](std::size_t done, std::size_t total) {
@@ -112,18 +116,18 @@ void bindCheck(py::module_& m) {
       "flip_degrees"_a = 120.0, "max_flips"_a = 0, "max_intersections"_a = 0, "max_spikes"_a = 0,
       "spike_ratio"_a = 0.75, "spike_of_peak"_a = 0.05, "max_lip_corner"_a = 0.02,
       "min_lower_lip"_a = 0.5, "lip_region"_a = 0.25, "lid_region"_a = 0.2,
-      "progress"_a = py::none(),
+      "own_shapes"_a = true, "progress"_a = py::none(),
       "The motion check (docs/motion-check.md) of a FaceModel with shape keys in the grammar "
       "(each key, and the streams through the tables made from them) or of an MpegFace (each "
       "table at its outermost borders, and the streams through its tables). Limits as "
       "`mpeg4face check` takes them (max_lip_corner in MW0, min_lower_lip and spike_of_peak "
-      "fractions). Returns a dict with the keys of `mpeg4face check --json`: passed, keys and "
+      "fractions; own_shapes=False is --no-own-shapes). Returns a dict with the keys of `mpeg4face check --json`: passed, keys and "
       "frames (one dict per pose: name, stream, frame, edge_ratio_max, edge_ratio_p99, "
       "normal_flips, contact_folds, new_self_intersections, touching_self_intersections, "
-      "spikes, bump_p99_of_peak, bump_ratio_max, lip_corner_outside_mw0, inner_lip_gap_mns0, failures, "
+      "spikes, own_shape_faults, bump_p99_of_peak, bump_ratio_max, lip_corner_outside_mw0, inner_lip_gap_mns0, failures, "
       "meshes: per mesh moved its offending_vertices (int32 array), flipped_triangles, "
       "new_intersections, spike_vertices (int32 array)), streams, neutral_self_intersections, "
-      "neutral_lip_gap_mns0, lower_lip_share, failures, notes. progress(done, total) is "
+      "neutral_lip_gap_mns0, lower_lip_share, failures, notes, own_shapes. progress(done, total) is "
       "called after each pose.");
 
   m.def(

@@ -37,6 +37,8 @@ Args parseArgs(const std::vector<std::string>& args) {
       out.streams.push_back(optionValue(args, i, "a .fap or .fba file"));
     } else if (a == "--json") {
       out.json = true;
+    } else if (a == "--no-own-shapes") {
+      out.limits.ownShapes = false;
     } else if (a == "--max-edge-ratio") {
       out.limits.edgeRatioP99 = numberArgument(args, i, "a ratio", 1);
     } else if (a == "--flip-degrees") {
@@ -177,13 +179,21 @@ void printSummary(const std::string& head, const MotionCheck& check) {
   for (const std::string& n : check.notes) std::printf("note: %s\n", n.c_str());
   std::printf("(%d self-intersecting triangle pairs in the neutral, not counted)\n",
               check.neutralIntersections);
-  int folds = 0;
+  int folds = 0, own = 0;
   for (const auto* poses : {&check.keys, &check.frames}) {
-    for (const PoseMotion& p : *poses) folds = std::max(folds, p.contactFolds);
+    for (const PoseMotion& p : *poses) {
+      folds = std::max(folds, p.contactFolds);
+      own = std::max(own, p.ownShapeFaults);
+    }
   }
   if (folds > 0) {
     std::printf("(up to %d triangles in a pose folded where lips or lids meet, not counted)\n",
                 folds);
+  }
+  if (!check.ownShapes.empty()) {
+    std::printf("(%zu shape keys outside the grammar measured as the head's own motion: up to %d "
+                "flips, new intersections and spikes in a pose that they make too, not counted)\n",
+                check.ownShapes.size(), own);
   }
 }
 
@@ -201,6 +211,7 @@ nlohmann::ordered_json poseJson(const PoseMotion& p, const FaceModel& model) {
   j["new_self_intersections"] = p.newIntersections;
   j["touching_self_intersections"] = p.touchingIntersections;
   j["spikes"] = p.spikes;
+  j["own_shape_faults"] = p.ownShapeFaults;
   j["bump_p99_of_peak"] = p.bumpP99;
   j["bump_ratio_max"] = p.bumpRatioMax;
   j["lip_corner_outside_mw0"] = p.lipCornerOutside ? nlohmann::json(*p.lipCornerOutside) : nullptr;
@@ -241,8 +252,10 @@ void printJson(const std::string& head, const MotionCheck& check, const FaceMode
                  {"lip_corner_outside_mw0", l.lipCornerOutside},
                  {"lower_lip_share", l.lowerLipShare},
                  {"lip_region_mw0", l.lipRegion},
-                 {"lid_region_es0", l.lidRegion}};
+                 {"lid_region_es0", l.lidRegion},
+                 {"own_shapes", l.ownShapes}};
   j["neutral_self_intersections"] = check.neutralIntersections;
+  j["own_shapes"] = check.ownShapes;
   j["neutral_lip_gap_mns0"] = check.neutralLipGap ? nlohmann::json(*check.neutralLipGap) : nullptr;
   j["lower_lip_share"] = check.lowerLipShare ? nlohmann::json(*check.lowerLipShare) : nullptr;
   j["failures"] = check.failures;

@@ -167,3 +167,23 @@ def test_surface_bump_bad_input():
     on_nothing = mpeg4face.IndexedFaceSet("points", mesh.coord, [])
     b = mpeg4face.surface_bump(on_nothing, np.ones((9, 3)))
     assert np.isnan(b["bump"]).all() and b["peak"] == 0.0 and b["spikes"].tolist() == []
+
+
+def test_the_heads_own_shapes_spike_is_not_counted():
+    """A shape key outside the grammar (the head's own: a scan's ARKit shape) that moves the
+    same corner alone makes the stretched key's spike the head's, unless own_shapes=False."""
+    head = sheet_head()
+    mesh = head.meshes[0]
+    own = np.zeros((9, 3))
+    own[0] = [-1.5, 0, 0]
+    mesh.morph_targets = [*mesh.morph_targets, mpeg4face.MorphTarget("jawOpen", own)]
+    head.meshes = [mesh]
+    r = mpeg4face.check_motion(head)
+    assert r["own_shapes"] == ["jawOpen"]
+    stretch = r["keys"][1]
+    assert stretch["spikes"] == 0 and stretch["own_shape_faults"] == 1
+    assert stretch["meshes"][0]["own_shape_faults"] == 1
+    assert stretch["failures"] == ["edge ratio p99 2.24 > 2"]
+    strict = mpeg4face.check_motion(head, own_shapes=False)
+    assert strict["own_shapes"] == []
+    assert strict["keys"][1]["spikes"] == 1

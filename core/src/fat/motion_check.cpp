@@ -63,6 +63,14 @@ struct MeshCheck {
   std::vector<int> faceTriangle;            // surface face -> triangle
   std::vector<std::uint64_t> neutralPairs;  // sorted triangle pairs that intersect
   std::vector<bool> lip, lid;               // per mesh vertex
+  // The triangles the head's own shapes turn over or make intersect, and their spike
+  // vertices (sorted): a flip of such a triangle, a new pair with one, such a spike is the
+  // head's, not counted.
+  std::vector<int> ownTriangles, ownSpikes;
+
+  bool ownTriangle(int t) const {
+    return std::binary_search(ownTriangles.begin(), ownTriangles.end(), t);
+  }
 
   void setPoints(const Points3& coord) {
     for (SurfaceMesh::Vertex_index v : surface.vertices()) {
@@ -261,6 +269,7 @@ class Checker {
       pose.newIntersections += static_cast<int>(m.newIntersections.size());
       pose.touchingIntersections += m.touchingIntersections;
       pose.spikes += static_cast<int>(m.spikeVertices.size());
+      pose.ownShapeFaults += m.ownShapeFaults;
       pose.bumpP99 = std::max(pose.bumpP99, m.bumpP99);
       pose.bumpRatioMax = std::max(pose.bumpRatioMax, m.bumpRatioMax);
     }
@@ -339,7 +348,13 @@ class Checker {
       SurfaceSpikes spikes = surfaceSpikes(bump, limits_.bumpOfPeak, limits_.bumpOfLocalMotion);
       out.bumpP99 = spikes.bumpP99;
       out.bumpRatioMax = spikes.localRatioMax;
-      out.spikeVertices = std::move(spikes.vertices);
+      for (int v : spikes.vertices) {
+        if (std::binary_search(c.ownSpikes.begin(), c.ownSpikes.end(), v)) {
+          ++out.ownShapeFaults;
+        } else {
+          out.spikeVertices.push_back(v);
+        }
+      }
       offending.insert(offending.end(), out.spikeVertices.begin(), out.spikeVertices.end());
     }
 
@@ -361,6 +376,10 @@ class Checker {
       if (norms > 0 && n.dot(c.normal[t]) < cosFlip * norms) {
         if (c.inContactRegion(tri, 3)) {
           ++out.contactFolds;
+          continue;
+        }
+        if (c.ownTriangle(static_cast<int>(t))) {
+          ++out.ownShapeFaults;
           continue;
         }
         out.flippedTriangles.push_back(static_cast<int>(t));
@@ -390,6 +409,10 @@ class Checker {
             c.triangles[3 * pair[1] + 1], c.triangles[3 * pair[1] + 2]};
         if (c.inContactRegion(corners.data(), 6)) {
           ++out.touchingIntersections;
+          continue;
+        }
+        if (c.ownTriangle(pair[0]) || c.ownTriangle(pair[1])) {
+          ++out.ownShapeFaults;
           continue;
         }
         out.newIntersections.push_back(pair);
@@ -467,6 +490,24 @@ class Checker {
     }
   }
 
+  // One of the head's own shapes: the triangles it turns over or makes intersect and its
+  // spikes join what is not counted.
+  void learnOwnShape(const std::vector<Points3>& coord, const std::string& name) {
+    const auto merge = [](auto& into, const auto& more) {
+      into.insert(into.end(), more.begin(), more.end());
+      std::sort(into.begin(), into.end());
+      into.erase(std::unique(into.begin(), into.end()), into.end());
+    };
+    for (const MeshMotion& m : check(coord, name).meshes) {
+      MeshCheck& c = meshes_[static_cast<std::size_t>(m.mesh)];
+      std::vector<int> triangles = m.flippedTriangles;
+      for (const auto& [a, b] : m.newIntersections) triangles.insert(triangles.end(), {a, b});
+      merge(c.ownTriangles, triangles);
+      merge(c.ownSpikes, m.spikeVertices);
+    }
+    result_.ownShapes.push_back(name);
+  }
+
   void addKey(PoseMotion pose, std::size_t total, const MotionProgress& progress) {
     result_.keys.push_back(std::move(pose));
     if (progress) progress(result_.keys.size(), total);
@@ -521,6 +562,23 @@ MotionCheck checkMotion(const FaceModel& head, std::span<const FapStream> stream
   const ShapeKeyFace generated = faceFromShapeKeys(head);
   const FaceModel& neutral = generated.face.faceSceneGraph;
   Checker checker(neutral, limits);
+  if (limits.ownShapes) {
+    // The head's morph targets outside the grammar, by name (one name may move several
+    // meshes), each alone at 1 on the neutral.
+    for (const std::string& name : copies.ignored) {
+      std::vector<Points3> coord;
+      bool moves = false;
+      for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
+        coord.push_back(neutral.meshes[m].coord);
+        for (const MorphTarget& t : head.meshes[m].morphTargets) {
+          if (t.name != name || t.displacements.rows() != coord.back().rows()) continue;
+          coord.back() += t.displacements;
+          moves = true;
+        }
+      }
+      if (moves) checker.learnOwnShape(coord, name);
+    }
+  }
   const std::size_t total = copies.copies.size() + frameCount(streams);
   for (const FaceShape& copy : copies.copies) {
     // The whole pose: what the check measures (edges, triangles) spans the meshes.

@@ -186,6 +186,31 @@ TEST_F(MotionCheckTest, FaceKeysAreTheTablesAtTheirBorders) {
   EXPECT_NEAR(*c.lowerLipShare, 0.3, 1e-5);
 }
 
+// A flip and a spike that the head's own shape (a key outside the grammar, as a scan's ARKit
+// shape) makes too are the head's: not counted, unless asked.
+TEST(MotionCheck, WhatTheHeadsOwnShapesDoIsNotCounted) {
+  MotionHead h = motionHead();
+  h.key("expression1_flip", h.stretchSheet, {1.5, 1.5, 0});
+  h.key("scanned_shape", h.stretchSheet, {1.4, 1.6, 0});
+  const MotionCheck own = checkMotion(h.model, {});
+  EXPECT_EQ(own.ownShapes, std::vector<std::string>{"scanned_shape"});
+  ASSERT_EQ(own.keys.size(), 1u);
+  const PoseMotion& p = own.keys[0];
+  EXPECT_EQ(p.normalFlips, 0);
+  EXPECT_EQ(p.spikes, 0);
+  EXPECT_GE(p.ownShapeFaults, 2);  // the flipped triangle and the corner's spike
+  EXPECT_FALSE(fails(p, "flipped")) << ::testing::PrintToString(p.failures);
+  EXPECT_FALSE(fails(p, "spike")) << ::testing::PrintToString(p.failures);
+
+  MotionLimits all;
+  all.ownShapes = false;
+  const MotionCheck strict = checkMotion(h.model, {}, all);
+  EXPECT_TRUE(strict.ownShapes.empty());
+  EXPECT_TRUE(fails(strict.keys.at(0), "flipped"));
+  EXPECT_TRUE(fails(strict.keys.at(0), "spike"));
+  EXPECT_EQ(strict.keys[0].ownShapeFaults, 0);
+}
+
 TEST(MotionCheck, ANeutralThatAlreadySelfIntersectsIsNotNew) {
   MotionHead h = motionHead();
   h.model.meshes[0].coord(h.crossSheetB + 4, 2) = -0.5;  // B's centre already through A

@@ -48,6 +48,12 @@ struct MotionLimits {
   double bumpOfPeak = 0.05;
   double bumpOfLocalMotion = 0.75;
   int spikeVertices = 0;  // spike vertices allowed per pose
+  // A head's own shapes (its shape keys outside the grammar: a scan's ARKit shapes, an
+  // artist's sculpts), each alone at 1, measured first: a flip of a triangle they turn over
+  // or make intersect, a new pair with such a triangle, and a spike at one of their spike
+  // vertices are the head's, not its tables', and are not counted in the keys and frames.
+  // false: everything counts.
+  bool ownShapes = true;
   // Spikes are looked for in the meshes a pose moves by at least this share of the pose's
   // largest motion (any mesh, model space): a FAP's rounding on other meshes (an eyelid FAP
   // moving the ICT head's lower teeth by a micrometre) is not skin motion.
@@ -65,6 +71,8 @@ struct MeshMotion {
   int contactFolds = 0;               // flipped triangles within the lips or the lids
   std::vector<std::array<int, 2>> newIntersections;  // not in the neutral, not touching
   int touchingIntersections = 0;                     // new pairs within the lips or the lids
+  // Flipped triangles, new pairs and spikes that the head's own shapes make too.
+  int ownShapeFaults = 0;
   // The bump (model/surface_bump.hpp): p99 of bump / peak over the vertices that move at
   // least 2% of the peak, the largest bump / local motion over those with bump > bumpOfPeak *
   // peak, and the spikes (ascending). 0 and none for a mesh whose peak is within the
@@ -85,6 +93,7 @@ struct PoseMotion {
   double edgeRatioMax = 1, edgeRatioP99 = 1;  // worst mesh
   int normalFlips = 0, contactFolds = 0, newIntersections = 0, touchingIntersections = 0;
   int spikes = 0;                        // spike vertices, all meshes
+  int ownShapeFaults = 0;                // all meshes, not counted (MotionLimits::ownShapes)
   double bumpP99 = 0, bumpRatioMax = 0;  // worst mesh
   // max over both sides of (inner corner - outer corner) along the mouth, outwards, in MW0:
   // > 0 when an inner corner is outside its outer one. nullopt without 2.4/2.5/8.3/8.4.
@@ -110,6 +119,7 @@ struct MotionCheck {
   std::vector<std::string> failures;  // face-level: the lower-lip share
   std::vector<std::string> notes;     // what could not be measured, and why
   int neutralIntersections = 0;       // self-intersecting pairs of the neutral (all meshes)
+  std::vector<std::string> ownShapes;  // the head's own shapes measured first, by name
 
   bool passed() const;
 };
