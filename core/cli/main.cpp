@@ -169,7 +169,7 @@ constexpr std::array kCommands{
         "  --spike-ratio R        a spike's bump |d - the mean d of its one-ring| is more than\n"
         "                         R of its local motion, the largest |d| of it and its ring\n"
         "                         (default 0.75; d: displacement from the neutral)\n"
-        "  --spike-of-peak PCT    and more than PCT % of the mesh's largest |d| (default 5)\n"
+        "  --spike-of-peak PCT    and more than PCT % of the pose's largest |d| (default 5)\n"
         "  --max-lip-corner PCT   inner lip corner outside the outer one, % of MW0 (default 2)\n"
         "  --min-lower-lip PCT    the lower lip 8.2's share of the chin 2.1 under FAP 3\n"
         "                         (default 50)\n"

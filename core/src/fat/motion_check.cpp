@@ -243,21 +243,27 @@ class Checker {
   PoseMotion check(const std::vector<Points3>& coord, std::string name) {
     PoseMotion pose;
     pose.name = std::move(name);
-    // Each mesh's largest motion in model space, and the pose's: a mesh that moves a mere
-    // fraction of the pose (a lip FAP's rounding on the teeth) is not measured for spikes.
-    std::vector<double> peak(meshes_.size(), 0.0);
+    // Each mesh's largest motion in model space (and in its own), and the pose's: a mesh that
+    // moves a mere fraction of the pose (a lip FAP's rounding on the teeth) is not measured
+    // for spikes, and a mesh's bumps count against the pose's motion, not the mesh's: a lash
+    // that moves 0.75 mm while the mouth moves a centimetre has no spike of 0.04 mm.
+    std::vector<double> peak(meshes_.size(), 0.0), ownPeak(meshes_.size(), 0.0);
     for (std::size_t i = 0; i < meshes_.size(); ++i) {
       const int m = meshes_[i].mesh;
-      if (meshes_[i].triangles.empty()) continue;
-      const Points3 d = (coord[m] - neutral_.meshes[m].coord) * world_[m].linear().transpose();
-      if (d.rows() > 0) peak[i] = d.rowwise().norm().maxCoeff();
+      if (meshes_[i].triangles.empty() || coord[m].rows() == 0) continue;
+      const Points3 d = coord[m] - neutral_.meshes[m].coord;
+      ownPeak[i] = d.rowwise().norm().maxCoeff();
+      peak[i] = (d * world_[m].linear().transpose()).rowwise().norm().maxCoeff();
     }
     const double posePeak = peak.empty() ? 0.0 : *std::max_element(peak.begin(), peak.end());
     for (std::size_t i = 0; i < meshes_.size(); ++i) {
       MeshCheck& c = meshes_[i];
       if (c.triangles.empty()) continue;
-      const bool bumps = peak[i] >= limits_.bumpMeshShare * posePeak;
-      if (auto motion = checkMesh(c, coord[c.mesh], bumps)) {
+      // The pose's peak in the mesh's own units; 0: no spikes looked for.
+      const double spikePeak = peak[i] > 0 && peak[i] >= limits_.bumpMeshShare * posePeak
+                                   ? posePeak * ownPeak[i] / peak[i]
+                                   : 0.0;
+      if (auto motion = checkMesh(c, coord[c.mesh], spikePeak)) {
         pose.meshes.push_back(std::move(*motion));
       }
     }
@@ -307,8 +313,10 @@ class Checker {
     return pose;
   }
 
-  // `bumps`: measure the bumps and spikes too.
-  std::optional<MeshMotion> checkMesh(MeshCheck& c, const Points3& coord, bool bumps) const {
+  // `spikePeak` > 0: the spikes too, their bumps relative to it (the pose's peak, in the
+  // mesh's units).
+  std::optional<MeshMotion> checkMesh(MeshCheck& c, const Points3& coord,
+                                      double spikePeak) const {
     const Points3& rest = neutral_.meshes[c.mesh].coord;
     std::vector<bool> moved(rest.rows(), false);
     bool any = false;
@@ -343,9 +351,10 @@ class Checker {
     offending = out.stretchedVertices;
 
     // Spikes: a mesh moved by rounding alone has none.
-    const SurfaceBump bump = bumps ? surfaceBump(c.rings, coord - rest) : SurfaceBump{};
+    const SurfaceBump bump = spikePeak > 0 ? surfaceBump(c.rings, coord - rest) : SurfaceBump{};
     if (bump.peak > c.moveTolerance) {
-      SurfaceSpikes spikes = surfaceSpikes(bump, limits_.bumpOfPeak, limits_.bumpOfLocalMotion);
+      SurfaceSpikes spikes = surfaceSpikes(bump, std::max(bump.peak, spikePeak),
+                                           limits_.bumpOfPeak, limits_.bumpOfLocalMotion);
       out.bumpP99 = spikes.bumpP99;
       out.bumpRatioMax = spikes.localRatioMax;
       for (int v : spikes.vertices) {

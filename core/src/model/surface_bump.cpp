@@ -135,16 +135,16 @@ SurfaceBump surfaceBump(const WeldedRings& rings, const Eigen::Ref<const Points3
   return out;
 }
 
-SurfaceSpikes surfaceSpikes(const SurfaceBump& bump, double bumpOfPeak, double bumpOfLocalMotion,
-                            double movingArea) {
+SurfaceSpikes surfaceSpikes(const SurfaceBump& bump, double peak, double bumpOfPeak,
+                            double bumpOfLocalMotion, double movingArea) {
   SurfaceSpikes out;
-  if (!(bump.peak > 0)) return out;
+  if (!(peak > 0)) return out;
   std::vector<double> moving;
   for (Eigen::Index i = 0; i < bump.bump.size(); ++i) {
     const double b = bump.bump[i];
     if (std::isnan(b)) continue;
-    if (bump.motion[i] >= movingArea * bump.peak) moving.push_back(b / bump.peak);
-    if (!(b > bumpOfPeak * bump.peak)) continue;
+    if (bump.motion[i] >= movingArea * peak) moving.push_back(b / peak);
+    if (!(b > bumpOfPeak * peak)) continue;
     // b > 0 here, and b <= |d_i| + mean |d_j| <= 2 m_i, so m_i > 0.
     const double ratio = b / bump.localMotion[i];
     out.localRatioMax = std::max(out.localRatioMax, ratio);

@@ -40,7 +40,7 @@ struct MotionLimits {
   // The lower lip's (8.2) share of the chin's (2.1) motion under FAP 3, at least.
   double lowerLipShare = 0.5;
   // A spike: a vertex whose bump (|d_i - the mean d of its one-ring|, d the displacement from
-  // the neutral) is more than bumpOfPeak of the mesh's largest |d| in the pose and more than
+  // the neutral) is more than bumpOfPeak of the pose's largest |d| (all meshes) and more than
   // bumpOfLocalMotion of its local motion m_i = max(|d_i|, |d_j| over the ring). Calibrated
   // on the ICT scanned head (issue 41): its 51 ARKit expression shapes and the 137 frames of
   // a Live Link capture played through them reach bump / m at most 0.47 and 0.58 over the

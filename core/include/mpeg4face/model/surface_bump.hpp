@@ -49,8 +49,9 @@ struct SurfaceBump {
 // Throws Error when `displacement` has not one row per vertex of `rings`.
 SurfaceBump surfaceBump(const WeldedRings& rings, const Eigen::Ref<const Points3>& displacement);
 
-// The spikes of a field, and two figures of how bumpy it is. Vertices with an empty ring are
-// left out; a field with peak 0 has none.
+// The spikes of a field, and two figures of how bumpy it is, relative to `peak`: the field's
+// own (bump.peak), or the motion of a whole pose the field is part of (a mesh's bumps against
+// the face's motion). Vertices with an empty ring are left out; peak 0 finds none.
 struct SurfaceSpikes {
   // bump_i > bumpOfPeak * peak and bump_i > bumpOfLocalMotion * m_i, ascending.
   std::vector<int> vertices;
@@ -61,7 +62,12 @@ struct SurfaceSpikes {
   double localRatioMax = 0;
 };
 
-SurfaceSpikes surfaceSpikes(const SurfaceBump& bump, double bumpOfPeak, double bumpOfLocalMotion,
-                            double movingArea = 0.02);
+SurfaceSpikes surfaceSpikes(const SurfaceBump& bump, double peak, double bumpOfPeak,
+                            double bumpOfLocalMotion, double movingArea = 0.02);
+// Relative to the field's own peak.
+inline SurfaceSpikes surfaceSpikes(const SurfaceBump& bump, double bumpOfPeak,
+                                   double bumpOfLocalMotion) {
+  return surfaceSpikes(bump, bump.peak, bumpOfPeak, bumpOfLocalMotion);
+}
 
 }  // namespace mpeg4face
