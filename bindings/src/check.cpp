@@ -121,14 +121,15 @@ void bindCheck(py::module_& m) {
       "(each key, and the streams through the tables made from them) or of an MpegFace (each "
       "table at its outermost borders, and the streams through its tables). Limits as "
       "`mpeg4face check` takes them (max_lip_corner in MW0, min_lower_lip and spike_of_peak "
-      "fractions; own_shapes=False is --no-own-shapes). Returns a dict with the keys of `mpeg4face check --json`: passed, keys and "
-      "frames (one dict per pose: name, stream, frame, edge_ratio_max, edge_ratio_p99, "
-      "normal_flips, contact_folds, new_self_intersections, touching_self_intersections, "
-      "spikes, own_shape_faults, bump_p99_of_peak, bump_ratio_max, lip_corner_outside_mw0, inner_lip_gap_mns0, failures, "
+      "fractions; own_shapes=False is --no-own-shapes). Returns a dict with the keys of "
+      "`mpeg4face check --json`: passed, keys and frames (one dict per pose: name, stream, "
+      "frame, edge_ratio_max, edge_ratio_p99, normal_flips, contact_folds, "
+      "new_self_intersections, touching_self_intersections, spikes, own_shape_faults, "
+      "bump_p99_of_peak, bump_ratio_max, lip_corner_outside_mw0, inner_lip_gap_mns0, failures, "
       "meshes: per mesh moved its offending_vertices (int32 array), flipped_triangles, "
       "new_intersections, spike_vertices (int32 array)), streams, neutral_self_intersections, "
-      "neutral_lip_gap_mns0, lower_lip_share, failures, notes, own_shapes. progress(done, total) is "
-      "called after each pose.");
+      "neutral_lip_gap_mns0, lower_lip_share, failures, notes, own_shapes. progress(done, "
+      "total) is called after each pose.");
 
   m.def(
       "surface_bump",

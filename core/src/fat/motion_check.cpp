@@ -580,7 +580,7 @@ MotionCheck checkMotion(const FaceModel& head, std::span<const FapStream> stream
       for (std::size_t m = 0; m < neutral.meshes.size(); ++m) {
         coord.push_back(neutral.meshes[m].coord);
         for (const MorphTarget& t : head.meshes[m].morphTargets) {
-          if (t.name != name || t.displacements.rows() != coord.back().rows()) continue;
+          if (t.name != name) continue;
           coord.back() += t.displacements;
           moves = true;
         }
