@@ -79,6 +79,7 @@ __all__ = [
     "FaceModel",
     "cut_face_model",
     "snap_feature_points",
+    "find_feature_points",
     # files
     "CandideUnit",
     "CandideModel",

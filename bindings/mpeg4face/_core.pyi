@@ -3,7 +3,7 @@
 
 import enum
 import os
-from typing import Callable, Iterable, Literal, Mapping, Sequence, TypedDict
+from typing import Any, Callable, Iterable, Literal, Mapping, Sequence, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -391,6 +391,12 @@ def cut_face_model(
 def snap_feature_points(
     model: FaceModel, tolerance: float = 0.02
 ) -> tuple[FaceModel, list[str], list[str]]: ...
+def find_feature_points(
+    target: FaceModel,
+    template: FaceModel,
+    pins: Mapping[str, FeaturePointBinding] = ...,
+    progress: Callable[[float, str], None] | None = None,
+) -> tuple[dict[str, tuple[FeaturePointBinding, float, str]], dict[str, Any]]: ...
 def read_model(path: _Path) -> FaceModel: ...
 def read_gltf(path: _Path) -> FaceModel: ...
 def write_gltf(model: FaceModel, path: _Path) -> None: ...

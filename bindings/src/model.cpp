@@ -8,6 +8,7 @@
 
 #include "bindings.hpp"
 #include "mpeg4face/model/feature_point_snap.hpp"
+#include "mpeg4face/model/landmarks.hpp"
 #include "mpeg4face/model/mesh_cut.hpp"
 
 namespace mpeg4face::python {
@@ -522,6 +523,63 @@ diagonal of the box around the feature points). 7.1 and 7.2 stay free. Returns (
 unbound): a new FaceModel, a line per point bound and a line per free point left free.)doc");
 }
 
+void bindLandmarks(py::module_& m) {
+  m.def(
+      "find_feature_points",
+      [](const PyFaceModel& target, const PyFaceModel& templateHead, const py::dict& pins,
+         const py::object& progress) {
+        const FaceModel coreTarget = toCore(target), coreTemplate = toCore(templateHead);
+        LandmarkOptions options;
+        for (const auto& [key, value] : pins) {
+          const std::string id = py::cast<std::string>(key);
+          if (!py::isinstance<PyFeaturePointBinding>(value)) {
+            throw py::type_error("pins['" + id + "']: expected FeaturePointBinding");
+          }
+          const auto& pin = py::cast<const PyFeaturePointBinding&>(value);
+          const auto at = pin.position.unchecked<1>();  // the setter keeps it (3,)
+          FeaturePointBinding& core = options.pins[id];
+          core.mesh = pin.mesh;
+          core.vertex = pin.vertex;
+          core.position = {at(0), at(1), at(2)};
+        }
+        if (!progress.is_none()) {
+          options.progress = [&progress](double fraction, std::string_view step) {
+            py::gil_scoped_acquire acquire;
+            progress(fraction, std::string(step));
+          };
+        }
+        LandmarkResult found;
+        {
+          py::gil_scoped_release release;
+          found = findFeaturePoints(coreTarget, coreTemplate, options);
+        }
+        py::dict points;
+        for (const auto& [id, p] : found.points) {
+          points[py::str(id)] = py::make_tuple(fromCore(p.binding), p.confidence, p.rule);
+        }
+        py::dict info;
+        info["face_mesh"] = found.faceMesh;
+        info["scale"] = found.scale;
+        // Eigen is column-major: its transpose's storage is the row-major matrix numpy reads.
+        const Eigen::Matrix4d rowMajor = found.alignment.matrix().transpose();
+        info["alignment"] = py::array_t<double>({4, 4}, rowMajor.data());
+        info["alignment_residual"] = found.alignmentResidual;
+        info["fit_residual"] = found.fitResidual;
+        info["not_placed"] = found.notPlaced;
+        return py::make_tuple(points, info);
+      },
+      "target"_a, "template"_a, "pins"_a = py::dict(), "progress"_a = py::none(),
+      R"doc(The MPEG-4 feature points of `target` found by registering `template` (a head with
+feature points, in MPEG-4 axes) onto it: similarity alignment whatever the target's axes,
+units and position, non-rigid ICP, each point carried onto the target and refined by its rule
+(docs/landmarks.md). `pins` (id -> FeaturePointBinding of the target) are kept exactly and
+constrain the fit; `progress(fraction, step)` is called along the way. Returns (points, info):
+points maps each id to (FeaturePointBinding, confidence 0..1, rule); info has face_mesh, scale,
+alignment (4x4, template to target), alignment_residual, fit_residual and not_placed (why
+template points were not placed). Raises mpeg4face.Error for a target without faces, a
+template without feature points, and a target with no face ("no face found").)doc");
+}
+
 void bindModel(py::module_& m) {
   bindMorphTarget(m);
   bindMesh(m);
@@ -531,6 +589,7 @@ void bindModel(py::module_& m) {
   bindFaceModel(m);
   bindCut(m);
   bindSnap(m);
+  bindLandmarks(m);
 }
 
 }  // namespace mpeg4face::python

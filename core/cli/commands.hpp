@@ -37,6 +37,7 @@ int runArkit(const std::vector<std::string>& args);
 int runArkitToFap(const std::vector<std::string>& args);
 int runArkitFromFap(const std::vector<std::string>& args);
 int runMesh2d(const std::vector<std::string>& args);
+int runLandmarks(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 

@@ -200,6 +200,20 @@ constexpr std::array kCommands{
             "  --report  to-fap: the stream's playback against the capture through the\n"
             "            face's ARKit shapes (error, bumps, spikes; docs/arkit.md, Fidelity)\n",
             mpeg4face::cli::runArkit},
+    Command{"landmarks", "a head's MPEG-4 feature points found from a template head",
+            "mpeg4face landmarks HEAD [--pin FP=VERTEX|FP=MESH:VERTEX|FP=x,y,z]...\n"
+            "                    [--feature-points CSV] [--template T] -o OUT.csv|OUT.glb\n"
+            "  Registers a template head that has feature points onto HEAD (whatever its up\n"
+            "  axis, facing, units and position) and carries its points over\n"
+            "  (docs/landmarks.md). The head's own points and the CSV's are kept as pins.\n"
+            "  --pin P     a point you place yourself, kept exactly and constraining the fit:\n"
+            "              a vertex of the face mesh (the one with the most triangles), of a\n"
+            "              named mesh, or a model-space position; repeatable\n"
+            "  --template T  the head whose points are carried (default: the ICT sample,\n"
+            "              samples/build/ict_head.glb from samples/build.sh)\n"
+            "  -o OUT      .csv (fp,mesh,vertex,x,y,z,confidence; positions in the head's\n"
+            "              model space) or .glb/.gltf (the head with its points)\n",
+            mpeg4face::cli::runLandmarks},
     Command{"mesh2d", "the 2D mesh object: design, track, code, decode, render, talking portrait",
             "mpeg4face mesh2d design IMAGE (--uniform COLSxROWS [--topology 0..3] | --delaunay N)\n"
             "                        [--mask M.png] -o MESH.json\n"

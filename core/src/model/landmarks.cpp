@@ -1,0 +1,769 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "mpeg4face/model/landmarks.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <optional>
+
+#include "model/surface_closest_point.hpp"
+#include "mpeg4face/error.hpp"
+#include "mpeg4face/model/fapu.hpp"
+#include "percentile.hpp"
+
+namespace mpeg4face {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+// A mesh in model space with its closest-point search.
+struct Surface {
+  int mesh = -1;
+  Points3 points;
+  std::vector<int> triangles;
+  std::unique_ptr<SurfaceClosestPoint> search;
+  std::vector<bool> boundary;  // per vertex: on an edge of one triangle (a cut, a hole)
+
+  int triangleCount() const { return static_cast<int>(triangles.size() / 3); }
+  Vector3d corner(int t, int k) const {
+    return points.row(triangles[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)]);
+  }
+  Vector3d triangleNormal(int t) const {
+    return (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).normalized();
+  }
+};
+
+Surface surfaceOf(const FaceModel& model, const std::vector<Eigen::Affine3d>& world, int mesh) {
+  Surface s;
+  s.mesh = mesh;
+  const Points3& coord = model.meshes[static_cast<std::size_t>(mesh)].coord;
+  s.points.resize(coord.rows(), 3);
+  for (Eigen::Index v = 0; v < coord.rows(); ++v) {
+    s.points.row(v) = world[static_cast<std::size_t>(mesh)] * Vector3d(coord.row(v).transpose());
+  }
+  s.triangles = model.meshes[static_cast<std::size_t>(mesh)].triangles();
+  std::vector<int> ids(s.triangles.size() / 3);
+  std::iota(ids.begin(), ids.end(), 0);
+  if (!ids.empty()) s.search = std::make_unique<SurfaceClosestPoint>(s.points, s.triangles, ids);
+  // Boundary vertices: an edge used once.
+  std::map<std::pair<int, int>, int> uses;
+  for (std::size_t t = 0; t + 2 < s.triangles.size(); t += 3) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int a = s.triangles[t + k], b = s.triangles[t + (k + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  s.boundary.assign(static_cast<std::size_t>(coord.rows()), false);
+  for (const auto& [edge, count] : uses) {
+    if (count == 1) s.boundary[static_cast<std::size_t>(edge.first)] =
+        s.boundary[static_cast<std::size_t>(edge.second)] = true;
+  }
+  return s;
+}
+
+// A similarity y = scale * rotation * x + translation.
+struct Similarity {
+  double scale = 1;
+  Matrix3d rotation = Matrix3d::Identity();
+  Vector3d translation = Vector3d::Zero();
+  Vector3d operator()(const Vector3d& x) const { return scale * (rotation * x) + translation; }
+};
+
+// The weighted least-squares similarity taking `from` onto `to` (Umeyama 1991).
+Similarity fitSimilarity(const std::vector<Vector3d>& from, const std::vector<Vector3d>& to,
+                         const std::vector<double>& weight) {
+  double total = 0;
+  Vector3d mf = Vector3d::Zero(), mt = Vector3d::Zero();
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    total += weight[i];
+    mf += weight[i] * from[i];
+    mt += weight[i] * to[i];
+  }
+  Similarity s;
+  if (!(total > 0)) return s;
+  mf /= total;
+  mt /= total;
+  Matrix3d cov = Matrix3d::Zero();
+  double spread = 0;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    cov += weight[i] * (to[i] - mt) * (from[i] - mf).transpose();
+    spread += weight[i] * (from[i] - mf).squaredNorm();
+  }
+  Eigen::JacobiSVD<Matrix3d> svd(cov, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Matrix3d d = Matrix3d::Identity();
+  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) d(2, 2) = -1;
+  s.rotation = svd.matrixU() * d * svd.matrixV().transpose();
+  s.scale = spread > 0 ? (svd.singularValues().asDiagonal() * d).trace() / spread : 1.0;
+  s.translation = mt - s.scale * s.rotation * mf;
+  return s;
+}
+
+// Centre, principal axes (columns, largest spread first) and RMS radius of a surface,
+// weighted by triangle area so that the meshing does not matter.
+struct Frame {
+  Vector3d centre = Vector3d::Zero();
+  Matrix3d axes = Matrix3d::Identity();
+  double radius = 0;
+};
+
+Frame principalFrame(const Surface& s) {
+  Frame f;
+  double area = 0;
+  Matrix3d second = Matrix3d::Zero();
+  for (int t = 0; t < s.triangleCount(); ++t) {
+    const Vector3d a = s.corner(t, 0), b = s.corner(t, 1), c = s.corner(t, 2);
+    const double w = 0.5 * (b - a).cross(c - a).norm();
+    const Vector3d m = (a + b + c) / 3;
+    area += w;
+    f.centre += w * m;
+    second += w * m * m.transpose();
+  }
+  if (!(area > 0)) return f;
+  f.centre /= area;
+  const Matrix3d cov = second / area - f.centre * f.centre.transpose();
+  Eigen::SelfAdjointEigenSolver<Matrix3d> eig(cov);
+  f.axes = eig.eigenvectors().rowwise().reverse();
+  f.radius = std::sqrt(std::max(0.0, cov.trace()));
+  return f;
+}
+
+// Every rotation taking the template's principal axes onto the target's up to their signs
+// and order: the file's up axis, facing direction and handedness of its axes are unknown.
+std::vector<Matrix3d> axisCandidates(const Frame& from, const Frame& to) {
+  std::vector<Matrix3d> out;
+  std::array<int, 3> order = {0, 1, 2};
+  do {
+    for (int signs = 0; signs < 8; ++signs) {
+      Matrix3d p = Matrix3d::Zero();
+      for (int k = 0; k < 3; ++k) {
+        p(order[static_cast<std::size_t>(k)], k) = (signs >> k & 1) ? -1 : 1;
+      }
+      const Matrix3d r = to.axes * p * from.axes.transpose();
+      if (r.determinant() > 0) out.push_back(r);
+    }
+  } while (std::next_permutation(order.begin(), order.end()));
+  return out;
+}
+
+// The median distance (relative to the template's RMS radius carried by the scale) past
+// which the aligned template is no face of the head's: the sample heads fit each other within
+// 1.8-2.4%, a sphere or a cube leaves 7.6-7.8%.
+constexpr double kNoFace = 0.045;
+// A pin's weight against one matched vertex.
+constexpr double kPinWeight = 1e3;
+// How far from where the template puts an eye, tooth or tongue point a mesh of the head may
+// lie, in ES0.
+constexpr double kPartReach = 0.25;
+
+struct Pair {
+  Vector3d from, to;
+  double weight;
+};
+
+// Trimmed similarity ICP of template points onto the target surface; returns the median
+// distance left, relative to the template radius carried by the scale.
+double similarityIcp(const std::vector<Vector3d>& sample, const Surface& target,
+                     const std::vector<Pair>& pins, double templateRadius, int iterations,
+                     Similarity& s) {
+  std::vector<ClosestPoint> hints(sample.size());
+  std::vector<double> distance(sample.size());
+  double median = std::numeric_limits<double>::infinity();
+  for (int it = 0; it <= iterations; ++it) {
+    for (std::size_t i = 0; i < sample.size(); ++i) {
+      hints[i] = target.search->closest(s(sample[i]), it > 0 ? &hints[i] : nullptr);
+      distance[i] = (hints[i].point - s(sample[i])).norm();
+    }
+    std::vector<double> sorted = distance;
+    median = percentile(sorted, 0.5) / (s.scale * templateRadius);
+    if (it == iterations) break;
+    const double keep = percentile(sorted, 0.8);
+    std::vector<Vector3d> from, to;
+    std::vector<double> weight;
+    for (std::size_t i = 0; i < sample.size(); ++i) {
+      if (distance[i] > keep) continue;
+      from.push_back(sample[i]);
+      to.push_back(hints[i].point);
+      weight.push_back(1.0);
+    }
+    const double pinWeight = pins.empty() ? 0 : 0.5 * static_cast<double>(from.size()) /
+                                                    static_cast<double>(pins.size());
+    for (const Pair& p : pins) {
+      from.push_back(p.from);
+      to.push_back(p.to);
+      weight.push_back(pinWeight * p.weight);
+    }
+    s = fitSimilarity(from, to, weight);
+  }
+  return median;
+}
+
+// Vertex normals of a triangle set over `points`.
+std::vector<Vector3d> normalsOf(const Points3& points, const std::vector<int>& triangles) {
+  std::vector<Vector3d> n(static_cast<std::size_t>(points.rows()), Vector3d::Zero());
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Vector3d a = points.row(triangles[t]), b = points.row(triangles[t + 1]),
+                   c = points.row(triangles[t + 2]);
+    const Vector3d f = (b - a).cross(c - a);
+    for (std::size_t k = 0; k < 3; ++k) n[static_cast<std::size_t>(triangles[t + k])] += f;
+  }
+  for (Vector3d& v : n) v = v.norm() > 0 ? v.normalized() : Vector3d::Zero();
+  return n;
+}
+
+std::string percentText(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", 100 * fraction);
+  return text;
+}
+
+// The template's meshes that hold feature points, and the skin (the one holding most).
+int skinOf(const FaceModel& head) {
+  std::vector<int> count(head.meshes.size(), 0);
+  for (const auto& [id, b] : head.featurePoints) {
+    const auto m = static_cast<std::size_t>(b.mesh);
+    if (b.mesh >= 0 && m < head.meshes.size()) ++count[m];
+  }
+  const auto best = std::max_element(count.begin(), count.end());
+  if (best == count.end() || *best < 10) {
+    throw Error("template: fewer than 10 feature points on any mesh; a template needs its "
+                "face's feature points on the vertices of its skin mesh");
+  }
+  return static_cast<int>(best - count.begin());
+}
+
+// The points a rule of their own places better than the fit: the midline points onto the
+// head's symmetry plane, the nose tip as its most forward midline vertex, the subnasale as
+// the deepest midline vertex between the nose tip and the upper lip (the rules both sample
+// heads' points follow; docs/landmarks.md).
+void refineByRules(const FaceModel& templateHead, const Surface& face, const Matrix3d& rotation,
+                   double es0, LandmarkResult& result) {
+  const auto placedAt = [&](const std::string& id) -> std::optional<Vector3d> {
+    const auto p = result.points.find(id);
+    if (p == result.points.end() || p->second.binding.mesh != face.mesh) return std::nullopt;
+    return p->second.binding.position;
+  };
+  // Left/right pairs and midline points, by the template's x (MPEG-4 axes: x to the face's
+  // left, the midline at the template's symmetry plane).
+  std::vector<std::pair<std::string, Vector3d>> templatePoints;
+  for (const auto& [id, b] : templateHead.featurePoints) {
+    if (const auto p = templateHead.featurePointPosition(id); p && result.points.count(id))
+      templatePoints.emplace_back(id, *p);
+  }
+  double midX = 0;
+  int onMid = 0;
+  for (const auto& [id, p] : templatePoints) {
+    if (id == "9.3" || id == "2.1" || id == "8.1" || id == "9.15") {
+      midX += p.x();
+      ++onMid;
+    }
+  }
+  midX = onMid ? midX / onMid : 0;
+  const double templateEs0 = es0 / result.scale;
+  Vector3d normal = Vector3d::Zero();
+  std::vector<Vector3d> middles;
+  std::vector<std::string> midline;
+  for (const auto& [id, p] : templatePoints) {
+    if (std::abs(p.x() - midX) < 0.005 * templateEs0) {
+      midline.push_back(id);
+      continue;
+    }
+    if (p.x() < midX) continue;
+    for (const auto& [other, q] : templatePoints) {
+      const Vector3d mirrored(2 * midX - q.x(), q.y(), q.z());
+      if (other == id || (mirrored - p).norm() > 0.02 * templateEs0) continue;
+      const auto a = placedAt(id), b = placedAt(other);
+      if (!a || !b) continue;
+      normal += *a - *b;
+      middles.push_back((*a + *b) / 2);
+    }
+  }
+  if (middles.size() < 4 || !(normal.norm() > 0)) return;
+  normal.normalize();
+  double offset = 0;
+  for (const Vector3d& m : middles) offset += normal.dot(m);
+  offset /= static_cast<double>(middles.size());
+  // The plane refined on the surface itself: each face vertex near the points and the
+  // surface point nearest its mirror image are a pair the plane's reflection should swap.
+  {
+    Vector3d centre = Vector3d::Zero();
+    for (const Vector3d& m : middles) centre += m;
+    centre /= static_cast<double>(middles.size());
+    std::vector<Eigen::Index> near;
+    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
+      if ((face.points.row(v).transpose() - centre).norm() < 1.2 * es0) near.push_back(v);
+    }
+    const std::size_t step = std::max<std::size_t>(1, near.size() / 2000);
+    for (int it = 0; it < 10; ++it) {
+      Vector3d sum = Vector3d::Zero();
+      double across = 0;
+      int pairs = 0;
+      for (std::size_t k = 0; k < near.size(); k += step) {
+        const Vector3d p = face.points.row(near[k]);
+        const double side = normal.dot(p) - offset;
+        if (std::abs(side) < 0.05 * es0) continue;  // too near the plane to say which way
+        const Vector3d image = p - 2 * side * normal;
+        const ClosestPoint c = face.search->closest(image);
+        if ((c.point - image).norm() > 0.05 * es0) continue;
+        sum += side > 0 ? Vector3d(p - c.point) : Vector3d(c.point - p);
+        across += normal.dot(p + c.point) / 2;
+        ++pairs;
+      }
+      if (pairs < 20 || !(sum.norm() > 0)) break;
+      normal = sum.normalized();
+      offset = across / pairs;
+    }
+  }
+  // Forward and up in the plane.
+  Vector3d front = rotation * Vector3d::UnitZ();
+  front = (front - front.dot(normal) * normal).normalized();
+  Vector3d up = normal.cross(front).normalized();
+  if ((rotation * Vector3d::UnitY()).dot(up) < 0) up = -up;
+  // Half the mesh's median edge, so that a coarse mesh still has a vertex on the plane.
+  std::vector<double> edgeLengths;
+  for (int t = 0; t < face.triangleCount(); ++t) {
+    edgeLengths.push_back((face.corner(t, 1) - face.corner(t, 0)).norm());
+  }
+  const double band = std::clamp(0.5 * percentile(edgeLengths, 0.5), 0.005 * es0, 0.03 * es0);
+  // On the plane and facing out of it, not a wall of the plane such as the nasal septum.
+  const std::vector<Vector3d> facing = normalsOf(face.points, face.triangles);
+  const auto onPlane = [&](Eigen::Index v) {
+    return std::abs(normal.dot(face.points.row(v).transpose()) - offset) < band &&
+           std::abs(facing[static_cast<std::size_t>(v)].dot(normal)) < 0.5;
+  };
+  const auto set = [&](const std::string& id, Eigen::Index v, const std::string& rule) {
+    PlacedFeaturePoint& p = result.points[id];
+    p.binding.vertex = static_cast<int>(v);
+    p.binding.position = face.points.row(v);
+    p.rule = rule;
+  };
+  // Midline points: the plane's vertex nearest where the fit put them.
+  for (const std::string& id : midline) {
+    const auto at = placedAt(id);
+    if (!at) continue;
+    Eigen::Index best = -1;
+    double nearest = 0.15 * es0;
+    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
+      const double d = (face.points.row(v).transpose() - *at).norm();
+      if (d < nearest && onPlane(v)) {
+        nearest = d;
+        best = v;
+      }
+    }
+    if (best >= 0) set(id, best, "fit, on the symmetry plane");
+  }
+  // The nose tip: the most forward midline vertex near the fit's.
+  if (const auto tip = placedAt("9.3")) {
+    Eigen::Index best = -1;
+    double ahead = -std::numeric_limits<double>::infinity();
+    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
+      const Vector3d q = face.points.row(v);
+      if ((q - *tip).norm() > 0.4 * es0 || !onPlane(v) || front.dot(q) <= ahead) continue;
+      ahead = front.dot(q);
+      best = v;
+    }
+    if (best >= 0) set("9.3", best, "most forward midline vertex");
+  }
+  // The subnasale: the least forward vertex of the midline profile (the most forward
+  // midline vertex at each height, of those facing forward: not the nose's inside) between
+  // the nose tip and the upper lip.
+  const auto tip = placedAt("9.3"), lip = placedAt("8.1"), sub = placedAt("9.15");
+  if (tip && lip && sub) {
+    const double bin = 0.025 * es0;
+    std::map<long, Eigen::Index> profile;  // height bin -> most forward vertex
+    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
+      const Vector3d q = face.points.row(v);
+      if (!onPlane(v) || up.dot(q) >= up.dot(*tip) || up.dot(q) <= up.dot(*lip) ||
+          (q - *sub).norm() > 0.3 * es0 || facing[static_cast<std::size_t>(v)].dot(front) < 0)
+        continue;
+      const long key = std::lround(up.dot(q) / bin);
+      const auto [at, added] = profile.emplace(key, v);
+      if (!added && front.dot(q) > front.dot(face.points.row(at->second).transpose())) {
+        at->second = v;
+      }
+    }
+    Eigen::Index best = -1;
+    double depth = std::numeric_limits<double>::infinity();
+    for (const auto& [key, v] : profile) {
+      const double d = front.dot(face.points.row(v).transpose());
+      if (d < depth) {
+        depth = d;
+        best = v;
+      }
+    }
+    if (best >= 0) set("9.15", best, "least forward midline vertex between 9.3 and 8.1");
+  }
+}
+
+}  // namespace
+
+LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templateHead,
+                                 const LandmarkOptions& options) {
+  const auto progress = [&](double f, std::string_view step) {
+    if (options.progress) options.progress(f, step);
+  };
+  target.validate();
+  templateHead.validate();
+  LandmarkResult result;
+
+  // The target's face: its mesh with the most triangles.
+  int faceMesh = -1;
+  std::size_t most = 0;
+  for (std::size_t m = 0; m < target.meshes.size(); ++m) {
+    const std::size_t n = target.meshes[m].triangles().size();
+    if (n > most) {
+      most = n;
+      faceMesh = static_cast<int>(m);
+    }
+  }
+  if (faceMesh < 0) throw Error("the head has no faces: there is no surface to place points on");
+  result.faceMesh = faceMesh;
+  const std::vector<Eigen::Affine3d> targetWorld = target.meshWorldMatrices();
+  const Surface face = surfaceOf(target, targetWorld, faceMesh);
+
+  const int skinMesh = skinOf(templateHead);
+  const std::vector<Eigen::Affine3d> templateWorld = templateHead.meshWorldMatrices();
+  const Surface skin = surfaceOf(templateHead, templateWorld, skinMesh);
+  const FapuMeasurement templateFapu = measureFapu(templateHead);
+  if (!templateFapu.ES0.measured) {
+    throw Error("template: ES0 cannot be measured (" + templateFapu.ES0.method + ")");
+  }
+  const double templateEs0 = templateFapu.ES0.value;
+
+  // Pins the template also has on its skin pull the fit.
+  std::vector<Pair> pins;
+  std::map<int, Vector3d> pinnedVertex;  // template skin vertex -> target position
+  for (const auto& [id, binding] : options.pins) {
+    const std::optional<Vector3d> at = [&]() -> std::optional<Vector3d> {
+      if (binding.mesh < 0) return binding.position;
+      if (static_cast<std::size_t>(binding.mesh) >= target.meshes.size() || binding.vertex < 0 ||
+          binding.vertex >= target.meshes[static_cast<std::size_t>(binding.mesh)].vertexCount()) {
+        throw Error({}, 0, "pin " + id, "vertex " + std::to_string(binding.vertex) +
+                                            " of mesh " + std::to_string(binding.mesh) +
+                                            " is not in the head");
+      }
+      return targetWorld[static_cast<std::size_t>(binding.mesh)] *
+             Vector3d(target.meshes[static_cast<std::size_t>(binding.mesh)]
+                          .coord.row(binding.vertex)
+                          .transpose());
+    }();
+    const auto t = templateHead.featurePoints.find(id);
+    if (t == templateHead.featurePoints.end() || t->second.mesh != skinMesh) continue;
+    pins.push_back({skin.points.row(t->second.vertex).transpose(), *at, 1.0});
+    pinnedVertex[t->second.vertex] = *at;
+  }
+
+  // 1. Similarity alignment: from the pins if they fix it, else from every axis candidate.
+  progress(0.0, "alignment");
+  const Frame from = principalFrame(skin), to = principalFrame(face);
+  if (!(to.radius > 0)) throw Error("the head's face mesh has no area");
+  std::vector<Vector3d> sample;
+  const Eigen::Index stride = std::max<Eigen::Index>(1, skin.points.rows() / 600);
+  for (Eigen::Index v = 0; v < skin.points.rows(); v += stride) {
+    sample.push_back(skin.points.row(v));
+  }
+  std::vector<Similarity> starts;
+  if (pins.size() >= 3) {
+    std::vector<Vector3d> a, b;
+    std::vector<double> w;
+    for (const Pair& p : pins) {
+      a.push_back(p.from);
+      b.push_back(p.to);
+      w.push_back(1);
+    }
+    starts.push_back(fitSimilarity(a, b, w));
+  } else {
+    for (const Matrix3d& r : axisCandidates(from, to)) {
+      Similarity s;
+      s.rotation = r;
+      s.scale = to.radius / from.radius;
+      s.translation = to.centre - s.scale * r * from.centre;
+      starts.push_back(s);
+    }
+  }
+  double bestScore = std::numeric_limits<double>::infinity();
+  Similarity best;
+  std::vector<std::pair<double, Similarity>> tried;
+  for (Similarity s : starts) {
+    const double score = similarityIcp(sample, face, pins, from.radius, 12, s);
+    tried.emplace_back(score, s);
+  }
+  std::sort(tried.begin(), tried.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  sample.clear();
+  const Eigen::Index fine = std::max<Eigen::Index>(1, skin.points.rows() / 3000);
+  for (Eigen::Index v = 0; v < skin.points.rows(); v += fine) sample.push_back(skin.points.row(v));
+  for (std::size_t k = 0; k < std::min<std::size_t>(3, tried.size()); ++k) {
+    Similarity s = tried[k].second;
+    const double score = similarityIcp(sample, face, pins, from.radius, 30, s);
+    if (score < bestScore) {
+      bestScore = score;
+      best = s;
+    }
+  }
+  // The face alone decides the last of the alignment: necks, backs of heads and hair differ
+  // more between heads than faces do.
+  {
+    Vector3d centre = Vector3d::Zero();
+    std::vector<Vector3d> facePoints;
+    for (const auto& [id, b] : templateHead.featurePoints) {
+      const char group = id[0];
+      if (b.mesh != skinMesh || id[1] != '.' ||
+          std::string_view("234589").find(group) == std::string_view::npos) {
+        continue;
+      }
+      facePoints.push_back(skin.points.row(b.vertex));
+      centre += facePoints.back();
+    }
+    centre /= static_cast<double>(std::max<std::size_t>(1, facePoints.size()));
+    double reach = 0;
+    for (const Vector3d& p : facePoints) reach = std::max(reach, (p - centre).norm());
+    sample.clear();
+    for (Eigen::Index v = 0; v < skin.points.rows(); ++v) {
+      const Vector3d p = skin.points.row(v);
+      if ((p - centre).norm() < 1.1 * reach) sample.push_back(p);
+    }
+    const std::size_t keep = 3000;
+    if (sample.size() > keep) {
+      std::vector<Vector3d> thinned;
+      for (std::size_t i = 0; i < keep; ++i) thinned.push_back(sample[i * sample.size() / keep]);
+      sample = std::move(thinned);
+    }
+    similarityIcp(sample, face, pins, from.radius, 30, best);
+  }
+  result.scale = best.scale;
+  result.alignmentResidual = bestScore;
+  result.alignment.linear() = best.scale * best.rotation;
+  result.alignment.translation() = best.translation;
+  const double es0 = templateEs0 * best.scale;  // the target's ES0, as far as we know yet
+  if (bestScore > kNoFace) {
+    throw Error("no face found: the best alignment of the template leaves half its surface " +
+                percentText(bestScore) + " of the head's size or more from it (a face fits " +
+                "within " + percentText(kNoFace) + ")");
+  }
+
+  // 2. Non-rigid ICP: each template vertex moves to the target, the displacement field kept
+  // smooth by a membrane term whose stiffness falls step by step.
+  const Eigen::Index n = skin.points.rows();
+  Points3 aligned(n, 3);
+  for (Eigen::Index v = 0; v < n; ++v) aligned.row(v) = best(skin.points.row(v).transpose());
+  std::vector<std::pair<int, int>> edges;
+  for (std::size_t t = 0; t + 2 < skin.triangles.size(); t += 3) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int a = skin.triangles[t + k], b = skin.triangles[t + (k + 1) % 3];
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  Eigen::SparseMatrix<double> laplacian(n, n);
+  {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, 0.0);
+    for (const auto& [a, b] : edges) {
+      entries.emplace_back(a, a, 1.0);
+      entries.emplace_back(b, b, 1.0);
+      entries.emplace_back(a, b, -1.0);
+      entries.emplace_back(b, a, -1.0);
+    }
+    laplacian.setFromTriplets(entries.begin(), entries.end());
+  }
+  const Points3 restTerm = laplacian * aligned;
+  Points3 fitted = aligned;
+  std::vector<ClosestPoint> match(static_cast<std::size_t>(n));
+  std::vector<double> weight(static_cast<std::size_t>(n), 0.0);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  bool analysed = false;
+  const std::array<double, 7> stiffness = {50, 20, 10, 5, 2, 1, 0.5};
+  const int rounds = 3;
+  for (std::size_t stage = 0; stage < stiffness.size(); ++stage) {
+    progress(0.1 + 0.8 * static_cast<double>(stage) / static_cast<double>(stiffness.size()),
+             "non-rigid fit");
+    for (int round = 0; round < rounds; ++round) {
+      const std::vector<Vector3d> normals = normalsOf(fitted, skin.triangles);
+      const double reach = std::max(0.05, 0.5 / static_cast<double>(stage + 1)) * es0;
+      Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);
+      Points3 rhs = stiffness[stage] * restTerm;
+      for (Eigen::Index v = 0; v < n; ++v) {
+        const auto i = static_cast<std::size_t>(v);
+        const Vector3d y = fitted.row(v);
+        match[i] = face.search->closest(y, match[i].triangle >= 0 ? &match[i] : nullptr);
+        const ClosestPoint& c = match[i];
+        const bool onEdge = face.boundary[static_cast<std::size_t>(c.corners[0])] ||
+                            face.boundary[static_cast<std::size_t>(c.corners[1])] ||
+                            face.boundary[static_cast<std::size_t>(c.corners[2])];
+        const double facing = normals[i].dot(face.triangleNormal(c.triangle));
+        weight[i] = (!onEdge && !skin.boundary[i] && facing > 0.5 &&
+                     (c.point - y).norm() < reach)
+                        ? 1.0
+                        : 0.0;
+        diagonal(v) = weight[i];
+        rhs.row(v) += weight[i] * c.point.transpose();
+      }
+      for (const auto& [vertex, at] : pinnedVertex) {
+        diagonal(vertex) += kPinWeight;
+        rhs.row(vertex) += kPinWeight * at.transpose();
+      }
+      Eigen::SparseMatrix<double> system = stiffness[stage] * laplacian;
+      for (Eigen::Index v = 0; v < n; ++v) system.coeffRef(v, v) += diagonal(v) + 1e-9;
+      if (!analysed) {
+        solver.analyzePattern(system);
+        analysed = true;
+      }
+      solver.factorize(system);
+      if (solver.info() != Eigen::Success) throw Error("the non-rigid fit's system is singular");
+      fitted = solver.solve(rhs);
+    }
+  }
+
+  // How far the fitted template lies from the target: per vertex, and the median over the
+  // vertices that found their match.
+  std::vector<double> residual(static_cast<std::size_t>(n), 0.0);
+  {
+    std::vector<double> matched;
+    for (Eigen::Index v = 0; v < n; ++v) {
+      const auto i = static_cast<std::size_t>(v);
+      match[i] = face.search->closest(fitted.row(v).transpose(), &match[i]);
+      residual[i] = (match[i].point - fitted.row(v).transpose()).norm() / es0;
+      if (weight[i] > 0) matched.push_back(residual[i]);
+    }
+    result.fitResidual = percentile(matched, 0.5);
+  }
+  progress(0.9, "placing points");
+
+  // 3. Each template point carried onto the target.
+  const Vector3d front = best.rotation * Vector3d::UnitZ();  // where the face looks
+  // The displacement the fit gives a template position: that of the skin vertices nearest
+  // it, inverse-distance weighted, on top of the similarity.
+  const auto carry = [&](const Vector3d& p) {
+    std::vector<std::pair<double, Eigen::Index>> near;
+    for (Eigen::Index v = 0; v < n; ++v) {
+      near.emplace_back((skin.points.row(v).transpose() - p).squaredNorm(), v);
+    }
+    const std::size_t k = std::min<std::size_t>(8, near.size());
+    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(k), near.end());
+    Vector3d shift = Vector3d::Zero();
+    double total = 0;
+    for (std::size_t j = 0; j < k; ++j) {
+      const double w = 1.0 / (std::sqrt(near[j].first) + 1e-3 * templateEs0);
+      shift += w * (fitted.row(near[j].second) - aligned.row(near[j].second)).transpose();
+      total += w;
+    }
+    return Vector3d(best(p) + shift / total);
+  };
+  // Confidence from the residual of the fit around a template vertex: 1 within 1% of ES0,
+  // 0.5 at 3%.
+  const auto confidenceAt = [&](const Vector3d& p) {
+    double sum = 0;
+    int count = 0;
+    for (Eigen::Index v = 0; v < n; ++v) {
+      if ((skin.points.row(v).transpose() - p).norm() > 0.1 * templateEs0) continue;
+      sum += residual[static_cast<std::size_t>(v)] * residual[static_cast<std::size_t>(v)];
+      ++count;
+    }
+    const double rms = count ? std::sqrt(sum / count) : 1.0;
+    const double excess = std::max(0.0, rms - 0.01) / 0.02;
+    return 1.0 / (1.0 + excess * excess);
+  };
+  // Other target meshes (eyes, teeth, tongue), searched for the points the template has on
+  // its own such meshes.
+  std::vector<Surface> parts;
+  for (std::size_t m = 0; m < target.meshes.size(); ++m) {
+    if (static_cast<int>(m) == faceMesh || target.meshes[m].triangles().empty()) continue;
+    parts.push_back(surfaceOf(target, targetWorld, static_cast<int>(m)));
+  }
+  for (const auto& [id, binding] : templateHead.featurePoints) {
+    const std::optional<Vector3d> at = templateHead.featurePointPosition(id);
+    if (!at) continue;
+    PlacedFeaturePoint placed;
+    if (binding.mesh == skinMesh) {
+      const Vector3d y = fitted.row(binding.vertex);
+      const ClosestPoint c = face.search->closest(y);
+      int nearest = c.corners[0];
+      for (int k : c.corners) {
+        if ((face.points.row(k).transpose() - c.point).norm() <
+            (face.points.row(nearest).transpose() - c.point).norm()) nearest = k;
+      }
+      placed.binding.mesh = faceMesh;
+      placed.binding.vertex = nearest;
+      placed.binding.position = face.points.row(nearest);
+      placed.confidence = confidenceAt(*at);
+      placed.rule = "fit";
+    } else if (binding.mesh < 0) {
+      placed.binding.position = carry(*at);
+      placed.confidence = 0.5 * confidenceAt(*at);
+      placed.rule = "carried (inside the head)";
+    } else {
+      const Vector3d y = carry(*at);
+      double nearest = std::numeric_limits<double>::infinity();
+      const Surface* on = nullptr;
+      ClosestPoint c;
+      for (const Surface& part : parts) {
+        const ClosestPoint pc = part.search->closest(y);
+        if ((pc.point - y).norm() < nearest) {
+          nearest = (pc.point - y).norm();
+          on = &part;
+          c = pc;
+        }
+      }
+      const std::string& partName =
+          templateHead.meshes[static_cast<std::size_t>(binding.mesh)].name;
+      if (!on || nearest > kPartReach * es0) {
+        result.notPlaced.push_back(id + ": no mesh of the head within " +
+                                   percentText(kPartReach) + " of ES0 of where the template's '" +
+                                   partName + "' puts it");
+        continue;
+      }
+      int vertex = c.corners[0];
+      const bool pupil = id == "3.5" || id == "3.6";
+      if (pupil) {
+        // The pupil: the eye mesh's most forward vertex near the carried point.
+        double ahead = -std::numeric_limits<double>::infinity();
+        for (Eigen::Index v = 0; v < on->points.rows(); ++v) {
+          const Vector3d q = on->points.row(v);
+          if ((q - y).norm() > 0.3 * es0 || q.dot(front) <= ahead) continue;
+          ahead = q.dot(front);
+          vertex = static_cast<int>(v);
+        }
+      } else {
+        for (int k : c.corners) {
+          if ((on->points.row(k).transpose() - c.point).norm() <
+              (on->points.row(vertex).transpose() - c.point).norm()) vertex = k;
+        }
+      }
+      placed.binding.mesh = on->mesh;
+      placed.binding.vertex = vertex;
+      placed.binding.position = on->points.row(vertex);
+      placed.confidence = confidenceAt(*at) / (1.0 + nearest / (0.05 * es0));
+      placed.rule = pupil ? std::string("fit, most forward on the eye mesh") : "fit, on mesh '" +
+                    target.meshes[static_cast<std::size_t>(on->mesh)].name + "'";
+    }
+    result.points[id] = placed;
+  }
+  refineByRules(templateHead, face, best.rotation, es0, result);
+  for (const auto& [id, binding] : options.pins) {
+    PlacedFeaturePoint pin;
+    pin.binding = binding;
+    if (binding.mesh >= 0) {
+      pin.binding.position = targetWorld[static_cast<std::size_t>(binding.mesh)] *
+                             Vector3d(target.meshes[static_cast<std::size_t>(binding.mesh)]
+                                          .coord.row(binding.vertex)
+                                          .transpose());
+    }
+    pin.confidence = 1;
+    pin.rule = "pin";
+    result.points[id] = pin;
+  }
+  progress(1.0, "done");
+  return result;
+}
+
+}  // namespace mpeg4face
