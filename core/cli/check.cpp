@@ -17,6 +17,7 @@
 #include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/io/vrml.hpp"
 #include "paths.hpp"
+#include "steps.hpp"
 
 namespace mpeg4face::cli {
 namespace {
@@ -93,7 +94,87 @@ struct Measure {
   std::function<std::string(double)> show;
 };
 
-void printSummary(const std::string& head, const MotionCheck& check) {
+
+nlohmann::ordered_json poseJson(const PoseMotion& p, const FaceModel& model) {
+  nlohmann::ordered_json j;
+  j["name"] = p.name;
+  if (p.stream >= 0) {
+    j["stream"] = p.stream;
+    j["frame"] = p.frame;
+  }
+  j["edge_ratio_max"] = p.edgeRatioMax;
+  j["edge_ratio_p99"] = p.edgeRatioP99;
+  j["normal_flips"] = p.normalFlips;
+  j["contact_folds"] = p.contactFolds;
+  j["new_self_intersections"] = p.newIntersections;
+  j["touching_self_intersections"] = p.touchingIntersections;
+  j["spikes"] = p.spikes;
+  j["own_shape_faults"] = p.ownShapeFaults;
+  j["bump_p99_of_peak"] = p.bumpP99;
+  j["bump_ratio_max"] = p.bumpRatioMax;
+  j["lip_corner_outside_mw0"] = p.lipCornerOutside ? nlohmann::json(*p.lipCornerOutside) : nullptr;
+  j["inner_lip_gap_mns0"] = p.innerLipGap ? nlohmann::json(*p.innerLipGap) : nullptr;
+  j["failures"] = p.failures;
+  // The offending elements only where a limit is passed: a long stream stays readable.
+  j["meshes"] = nlohmann::json::array();
+  if (p.failures.empty()) return j;
+  for (const MeshMotion& m : p.meshes) {
+    if (m.offendingVertices.empty()) continue;
+    nlohmann::ordered_json mj;
+    mj["mesh"] = model.meshes[m.mesh].name;
+    mj["edge_ratio_p99"] = m.edgeRatioP99;
+    mj["offending_vertices"] = m.offendingVertices;
+    mj["flipped_triangles"] = m.flippedTriangles;
+    mj["new_intersections"] = m.newIntersections;
+    mj["spike_vertices"] = m.spikeVertices;
+    mj["bump_p99_of_peak"] = m.bumpP99;
+    mj["bump_ratio_max"] = m.bumpRatioMax;
+    j["meshes"].push_back(mj);
+  }
+  return j;
+}
+
+void printJson(const std::string& head, const MotionCheck& check, const FaceModel& model) {
+  nlohmann::ordered_json j;
+  j["file"] = head;
+  j["passed"] = check.passed();
+  const MotionLimits& l = check.limits;
+  j["limits"] = {{"edge_ratio_p99", l.edgeRatioP99},
+                 {"flip_degrees", l.flipDegrees},
+                 {"normal_flips", l.normalFlips},
+                 {"new_self_intersections", l.newIntersections},
+                 {"spike_vertices", l.spikeVertices},
+                 {"bump_of_peak", l.bumpOfPeak},
+                 {"bump_of_local_motion", l.bumpOfLocalMotion},
+                 {"bump_mesh_share", l.bumpMeshShare},
+                 {"lip_corner_outside_mw0", l.lipCornerOutside},
+                 {"lower_lip_share", l.lowerLipShare},
+                 {"lip_region_mw0", l.lipRegion},
+                 {"lid_region_es0", l.lidRegion},
+                 {"own_shapes", l.ownShapes}};
+  j["neutral_self_intersections"] = check.neutralIntersections;
+  j["own_shapes"] = check.ownShapes;
+  j["neutral_lip_gap_mns0"] = check.neutralLipGap ? nlohmann::json(*check.neutralLipGap) : nullptr;
+  j["lower_lip_share"] = check.lowerLipShare ? nlohmann::json(*check.lowerLipShare) : nullptr;
+  j["failures"] = check.failures;
+  j["notes"] = check.notes;
+  j["streams"] = nlohmann::json::array();
+  for (const StreamMotion& s : check.streams) {
+    j["streams"].push_back({{"name", s.name},
+                            {"frames", s.frames},
+                            {"inner_lip_gap_min_mns0", s.innerLipGapMin},
+                            {"inner_lip_gap_max_mns0", s.innerLipGapMax}});
+  }
+  j["keys"] = nlohmann::json::array();
+  for (const PoseMotion& p : check.keys) j["keys"].push_back(poseJson(p, model));
+  j["frames"] = nlohmann::json::array();
+  for (const PoseMotion& p : check.frames) j["frames"].push_back(poseJson(p, model));
+  std::printf("%s\n", j.dump(1).c_str());
+}
+
+}  // namespace
+
+void printMotionCheckSummary(const std::string& head, const MotionCheck& check) {
   const MotionLimits& l = check.limits;
   std::size_t failedKeys = 0, failedFrames = 0;
   for (const PoseMotion& p : check.keys) failedKeys += !p.failures.empty();
@@ -197,85 +278,6 @@ void printSummary(const std::string& head, const MotionCheck& check) {
   }
 }
 
-nlohmann::ordered_json poseJson(const PoseMotion& p, const FaceModel& model) {
-  nlohmann::ordered_json j;
-  j["name"] = p.name;
-  if (p.stream >= 0) {
-    j["stream"] = p.stream;
-    j["frame"] = p.frame;
-  }
-  j["edge_ratio_max"] = p.edgeRatioMax;
-  j["edge_ratio_p99"] = p.edgeRatioP99;
-  j["normal_flips"] = p.normalFlips;
-  j["contact_folds"] = p.contactFolds;
-  j["new_self_intersections"] = p.newIntersections;
-  j["touching_self_intersections"] = p.touchingIntersections;
-  j["spikes"] = p.spikes;
-  j["own_shape_faults"] = p.ownShapeFaults;
-  j["bump_p99_of_peak"] = p.bumpP99;
-  j["bump_ratio_max"] = p.bumpRatioMax;
-  j["lip_corner_outside_mw0"] = p.lipCornerOutside ? nlohmann::json(*p.lipCornerOutside) : nullptr;
-  j["inner_lip_gap_mns0"] = p.innerLipGap ? nlohmann::json(*p.innerLipGap) : nullptr;
-  j["failures"] = p.failures;
-  // The offending elements only where a limit is passed: a long stream stays readable.
-  j["meshes"] = nlohmann::json::array();
-  if (p.failures.empty()) return j;
-  for (const MeshMotion& m : p.meshes) {
-    if (m.offendingVertices.empty()) continue;
-    nlohmann::ordered_json mj;
-    mj["mesh"] = model.meshes[m.mesh].name;
-    mj["edge_ratio_p99"] = m.edgeRatioP99;
-    mj["offending_vertices"] = m.offendingVertices;
-    mj["flipped_triangles"] = m.flippedTriangles;
-    mj["new_intersections"] = m.newIntersections;
-    mj["spike_vertices"] = m.spikeVertices;
-    mj["bump_p99_of_peak"] = m.bumpP99;
-    mj["bump_ratio_max"] = m.bumpRatioMax;
-    j["meshes"].push_back(mj);
-  }
-  return j;
-}
-
-void printJson(const std::string& head, const MotionCheck& check, const FaceModel& model) {
-  nlohmann::ordered_json j;
-  j["file"] = head;
-  j["passed"] = check.passed();
-  const MotionLimits& l = check.limits;
-  j["limits"] = {{"edge_ratio_p99", l.edgeRatioP99},
-                 {"flip_degrees", l.flipDegrees},
-                 {"normal_flips", l.normalFlips},
-                 {"new_self_intersections", l.newIntersections},
-                 {"spike_vertices", l.spikeVertices},
-                 {"bump_of_peak", l.bumpOfPeak},
-                 {"bump_of_local_motion", l.bumpOfLocalMotion},
-                 {"bump_mesh_share", l.bumpMeshShare},
-                 {"lip_corner_outside_mw0", l.lipCornerOutside},
-                 {"lower_lip_share", l.lowerLipShare},
-                 {"lip_region_mw0", l.lipRegion},
-                 {"lid_region_es0", l.lidRegion},
-                 {"own_shapes", l.ownShapes}};
-  j["neutral_self_intersections"] = check.neutralIntersections;
-  j["own_shapes"] = check.ownShapes;
-  j["neutral_lip_gap_mns0"] = check.neutralLipGap ? nlohmann::json(*check.neutralLipGap) : nullptr;
-  j["lower_lip_share"] = check.lowerLipShare ? nlohmann::json(*check.lowerLipShare) : nullptr;
-  j["failures"] = check.failures;
-  j["notes"] = check.notes;
-  j["streams"] = nlohmann::json::array();
-  for (const StreamMotion& s : check.streams) {
-    j["streams"].push_back({{"name", s.name},
-                            {"frames", s.frames},
-                            {"inner_lip_gap_min_mns0", s.innerLipGapMin},
-                            {"inner_lip_gap_max_mns0", s.innerLipGapMax}});
-  }
-  j["keys"] = nlohmann::json::array();
-  for (const PoseMotion& p : check.keys) j["keys"].push_back(poseJson(p, model));
-  j["frames"] = nlohmann::json::array();
-  for (const PoseMotion& p : check.frames) j["frames"].push_back(poseJson(p, model));
-  std::printf("%s\n", j.dump(1).c_str());
-}
-
-}  // namespace
-
 int runCheck(const std::vector<std::string>& rawArgs) {
   const Args args = parseArgs(rawArgs);
   // Read everything first: a stream that does not read stops before the work.
@@ -313,7 +315,7 @@ int runCheck(const std::vector<std::string>& rawArgs) {
   if (args.json) {
     printJson(args.head, check, model);
   } else {
-    printSummary(args.head, check);
+    printMotionCheckSummary(args.head, check);
   }
   return check.passed() ? 0 : 4;
 }

@@ -23,6 +23,7 @@
 #include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/io/vrml.hpp"
 #include "paths.hpp"
+#include "steps.hpp"
 
 namespace mpeg4face::cli {
 namespace {
@@ -72,18 +73,12 @@ Args parseArgs(const std::vector<std::string>& args) {
   return out;
 }
 
-struct Source {
-  FaceModel neutral;
-  std::vector<FaceShape> copies;
-  std::string kind;  // "tables" or "shape keys"
-};
-
-Source tablesSource(MpegFace face, const FapuMeasurement& fapu, const std::string& path) {
+CloneSource tablesSource(MpegFace face, const FapuMeasurement& fapu, const std::string& path) {
   if (face.faceDefTables.empty()) {
     throw Error(path, 0, "faceDefTables",
                 "the face has no Face Animation Tables: nothing to clone");
   }
-  Source out;
+  CloneSource out;
   out.copies = shapesFromFaceDefTables(face, fapu);
   out.neutral = std::move(face.faceSceneGraph);
   out.neutral = neutralFaceModel(std::move(out.neutral));
@@ -91,13 +86,14 @@ Source tablesSource(MpegFace face, const FapuMeasurement& fapu, const std::strin
   return out;
 }
 
-// A .wrl with tables; a glTF written with tables (writeFatGltf), else a glTF head whose
-// shape keys are named copies (fat/names.hpp).
-Source readSource(const Args& args, std::vector<std::string>& warnings) {
-  const std::string& path = args.source;
+}  // namespace
+
+CloneSource readCloneSource(const std::string& path,
+                            const std::optional<std::string>& featurePoints,
+                            std::vector<std::string>& warnings) {
   if (!isGltf(path)) {
     MpegFace face = readVrml(path);
-    bindFeaturePoints(args.sourceFeaturePoints, face.faceSceneGraph, warnings);
+    bindFeaturePoints(featurePoints, face.faceSceneGraph, warnings);
     const FapuMeasurement fapu = measureFapu(face.faceSceneGraph);
     return tablesSource(std::move(face), fapu, path);
   }
@@ -112,12 +108,12 @@ Source readSource(const Args& args, std::vector<std::string>& warnings) {
     }
   }
   if (fat) {
-    bindFeaturePoints(args.sourceFeaturePoints, fat->face.faceSceneGraph, warnings);
+    bindFeaturePoints(featurePoints, fat->face.faceSceneGraph, warnings);
     // The file's own FAPU: the one its targets were scaled with.
     return tablesSource(std::move(fat->face), fat->fapu, path);
   }
   FaceModel model = readModel(path);
-  bindFeaturePoints(args.sourceFeaturePoints, model, warnings);
+  bindFeaturePoints(featurePoints, model, warnings);
   ShapeKeyCopies keys = shapesFromShapeKeys(model);
   for (const std::string& name : keys.ignored) {
     warnings.push_back("source shape key or animation '" + name +
@@ -128,12 +124,13 @@ Source readSource(const Args& args, std::vector<std::string>& warnings) {
                 "neither Face Animation Tables nor a shape key named as a FAP, viseme or "
                 "expression (e.g. fap3_open_jaw@512; grammar in docs/fat.md)");
   }
-  Source out{std::move(model), std::move(keys.copies), "shape keys"};
+  CloneSource out{std::move(model), std::move(keys.copies), "shape keys"};
   out.neutral = neutralFaceModel(std::move(out.neutral));
   return out;
 }
 
-void requireFeaturePoints(const FaceModel& model, const std::string& path, const char* option) {
+void requireCloneFeaturePoints(const FaceModel& model, const std::string& path,
+                               const char* option) {
   const std::vector<std::string> missing = missingCloneFeaturePoints(model);
   if (missing.empty()) return;
   std::string list;
@@ -142,38 +139,6 @@ void requireFeaturePoints(const FaceModel& model, const std::string& path, const
               "missing feature points that cloning needs: " + list + " (bind them with " + option +
                   " CSV)");
 }
-
-// Progress on stderr: a line per stage, or one line updated in place on a terminal.
-class ProgressPrinter {
- public:
-  ProgressPrinter() : tty_(isatty(fileno(stderr)) != 0) {}
-  ProgressPrinter(const ProgressPrinter&) = delete;
-  ProgressPrinter& operator=(const ProgressPrinter&) = delete;
-  ~ProgressPrinter() { finish(); }  // also when an error unwinds: its message on a line of its own
-  void finish() {
-    if (tty_ && !stage_.empty()) std::fputc('\n', stderr);
-    stage_.clear();
-  }
-  void operator()(std::string_view stage, double fraction) {
-    const int percent = static_cast<int>(std::lround(100 * std::clamp(fraction, 0.0, 1.0)));
-    if (tty_) {
-      if (stage == stage_ && percent == percent_) return;
-      std::fprintf(stderr, "\rclone: %3d%% %-48.*s", percent, static_cast<int>(stage.size()),
-                   stage.data());
-      std::fflush(stderr);
-    } else if (stage != stage_) {
-      std::fprintf(stderr, "clone: %3d%% %.*s\n", percent, static_cast<int>(stage.size()),
-                   stage.data());
-    }
-    stage_ = stage;
-    percent_ = percent;
-  }
-
- private:
-  bool tty_;
-  std::string stage_;
-  int percent_ = -1;
-};
 
 // The target with its tables, plus each cloned copy's vertex motion as a shape key named
 // like the copy (Transform motion is in the tables only), so that the file can be edited
@@ -191,20 +156,18 @@ MpegFace withCopiesAsShapeKeys(const ClonedFace& cloned) {
   return out;
 }
 
-}  // namespace
-
 int runClone(const std::vector<std::string>& rawArgs) {
   Args args = parseArgs(rawArgs);
   std::vector<std::string> warnings;
-  const Source source = readSource(args, warnings);
+  const CloneSource source = readCloneSource(args.source, args.sourceFeaturePoints, warnings);
 
   FaceModel target = readModel(args.target);
   bindFeaturePoints(args.targetFeaturePoints, target, warnings);
   target = neutralFaceModel(std::move(target));
-  requireFeaturePoints(source.neutral, args.source, "--source-feature-points");
-  requireFeaturePoints(target, args.target, "--target-feature-points");
+  requireCloneFeaturePoints(source.neutral, args.source, "--source-feature-points");
+  requireCloneFeaturePoints(target, args.target, "--target-feature-points");
 
-  ProgressPrinter printer;
+  ProgressPrinter printer("clone");
   args.options.progress = [&](std::string_view stage, double fraction) {
     printer(stage, fraction);
   };

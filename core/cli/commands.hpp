@@ -38,6 +38,7 @@ int runArkitToFap(const std::vector<std::string>& args);
 int runArkitFromFap(const std::vector<std::string>& args);
 int runMesh2d(const std::vector<std::string>& args);
 int runLandmarks(const std::vector<std::string>& args);
+int runAnimate(const std::vector<std::string>& args);
 
 }  // namespace mpeg4face::cli
 

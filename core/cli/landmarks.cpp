@@ -20,6 +20,7 @@
 #include "mpeg4face/model/landmarks.hpp"
 #include "mpeg4face/spec.hpp"
 #include "paths.hpp"
+#include "steps.hpp"
 
 namespace mpeg4face::cli {
 namespace {
@@ -61,17 +62,19 @@ LandmarksArgs parseArgs(const std::vector<std::string>& args) {
   return out;
 }
 
-// The template: --template, else the ICT sample head that samples/build.sh makes.
-std::string templatePath(const LandmarksArgs& args) {
-  if (args.templateHead) return *args.templateHead;
+}  // namespace
+
+std::string sampleIctHead(const char* option) {
   const std::filesystem::path sample =
       std::filesystem::path(MPEG4FACE_SAMPLES_DIR) / "build" / "ict_head.glb";
   if (!std::filesystem::exists(sample)) {
-    throw UsageError("no template head: pass --template HEAD (a head with feature points) or "
-                     "run samples/build.sh, which makes " + sample.string());
+    throw UsageError(std::string("no ") + option + " given and no ICT sample head: run " +
+                     "samples/build.sh (it makes " + sample.string() + ") or pass " + option);
   }
   return sample.string();
 }
+
+namespace {
 
 // The face mesh the algorithm will take (the one with the most triangles), for FP=VERTEX.
 int largestMesh(const FaceModel& model) {
@@ -145,6 +148,25 @@ std::string csvText(const FaceModel& head, const LandmarkResult& found) {
 
 }  // namespace
 
+LandmarkResult placeFeaturePoints(FaceModel& head, const FaceModel& templateHead,
+                                  const std::vector<std::string>& pins,
+                                  std::vector<std::string>& warnings) {
+  LandmarkOptions options;
+  options.pins = head.featurePoints;  // the head's own points are kept
+  for (const std::string& pin : pins) {
+    auto [id, binding] = parsePin(pin, head);
+    options.pins[id] = binding;
+  }
+  LandmarkResult found = findFeaturePoints(head, templateHead, options);
+  head.featurePoints.clear();
+  for (const auto& [id, p] : found.points) head.featurePoints[id] = p.binding;
+  // Pins given as positions on the surface are bound to their vertices, as every command does.
+  const FeaturePointSnap snap = snapFeaturePointsToVertices(head);
+  warnings.insert(warnings.end(), snap.notes.begin(), snap.notes.end());
+  for (auto& [id, p] : found.points) p.binding = head.featurePoints.at(id);
+  return found;
+}
+
 int runLandmarks(const std::vector<std::string>& args) {
   const LandmarksArgs a = parseArgs(args);
   using Clock = std::chrono::steady_clock;
@@ -152,21 +174,10 @@ int runLandmarks(const std::vector<std::string>& args) {
   FaceModel head = readModel(a.head);
   std::vector<std::string> warnings;
   bindFeaturePoints(a.featurePoints, head, warnings);
-  LandmarkOptions options;
-  options.pins = head.featurePoints;  // the head's own points and the CSV's are kept
-  for (const std::string& pin : a.pins) {
-    auto [id, binding] = parsePin(pin, head);
-    options.pins[id] = binding;
-  }
-  const FaceModel templateHead = readModel(templatePath(a));
-  LandmarkResult found = findFeaturePoints(head, templateHead, options);
-
-  head.featurePoints.clear();
-  for (const auto& [id, p] : found.points) head.featurePoints[id] = p.binding;
-  // Pins given as positions on the surface are bound to their vertices, as every command does.
-  const FeaturePointSnap snap = snapFeaturePointsToVertices(head);
-  warnings.insert(warnings.end(), snap.notes.begin(), snap.notes.end());
-  for (auto& [id, p] : found.points) p.binding = head.featurePoints.at(id);
+  const std::size_t pins = head.featurePoints.size() + a.pins.size();
+  const FaceModel templateHead =
+      readModel(a.templateHead ? *a.templateHead : sampleIctHead("--template"));
+  const LandmarkResult found = placeFeaturePoints(head, templateHead, a.pins, warnings);
   if (isGltf(a.output)) {
     writeGltf(head, a.output);
   } else {
@@ -175,7 +186,7 @@ int runLandmarks(const std::vector<std::string>& args) {
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf("%zu feature points placed (%zu pins) on mesh '%s' in %.1f s; fit residual "
               "%.1f%% of ES0 (median; alignment %.1f%% of the head's size)\n",
-              found.points.size(), options.pins.size(),
+              found.points.size(), pins,
               head.meshes[static_cast<std::size_t>(found.faceMesh)].name.c_str(), seconds,
               100 * found.fitResidual, 100 * found.alignmentResidual);
   for (const std::string& why : found.notPlaced) std::printf("not placed: %s\n", why.c_str());

@@ -214,6 +214,21 @@ constexpr std::array kCommands{
             "  -o OUT      .csv (fp,mesh,vertex,x,y,z,confidence; positions in the head's\n"
             "              model space) or .glb/.gltf (the head with its points)\n",
             mpeg4face::cli::runLandmarks},
+    Command{"animate", "a head made animatable: feature points, cloned shapes, tables, check",
+            "mpeg4face animate HEAD -o OUT.glb|OUT.wrl [--source S] [--template T]\n"
+            "                  [--pin FP=VERTEX|FP=MESH:VERTEX|FP=x,y,z]... [--feature-points CSV]\n"
+            "                  [--stream S.fap]\n"
+            "  The head's feature points (found as `landmarks` finds them unless it has those\n"
+            "  cloning needs; its own and the pins are kept), the FAP, viseme and expression\n"
+            "  shapes of S cloned onto it, its Face Animation Tables, OUT written, and the\n"
+            "  motion check on a stream; one line per step with its time. Exit status 4 when\n"
+            "  a frame of the stream is past a limit of the check (OUT is written).\n"
+            "  --source S    the head whose shapes are cloned (default: the ICT sample,\n"
+            "                samples/build/ict_head.glb)\n"
+            "  --template T  the head whose feature points are carried (default: the same)\n"
+            "  --stream S    the stream checked (default: the demo's sentence,\n"
+            "                samples/build/streams/hello.fap)\n",
+            mpeg4face::cli::runAnimate},
     Command{"mesh2d", "the 2D mesh object: design, track, code, decode, render, talking portrait",
             "mpeg4face mesh2d design IMAGE (--uniform COLSxROWS [--topology 0..3] | --delaunay N)\n"
             "                        [--mask M.png] -o MESH.json\n"

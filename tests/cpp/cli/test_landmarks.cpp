@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `mpeg4face landmarks`: a head without feature points gets them from a template, as CSV
 // that reads back or as the head in glTF; bad arguments and faceless heads write nothing.
+// `mpeg4face animate`: the same head made animatable in one step.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 
 #include "mpeg4face/io/feature_point_csv.hpp"
+#include "mpeg4face/io/fat_gltf.hpp"
 #include "mpeg4face/io/files.hpp"
 #include "mpeg4face/io/gltf.hpp"
 #include "mpeg4face/io/obj.hpp"
@@ -25,7 +28,21 @@ using mpeg4face::test::scratchDir;
 // them (the target), written once for the tests of this file.
 struct Files {
   std::string templateGlb, targetObj;
+  std::string sourceGlb;  // the template with three FAP shape keys: a source to clone
 };
+
+// A smooth bump of `motion` about feature point `fp`, 0 beyond `radius`.
+Points3 bump(const FaceModel& head, int mesh, const std::string& fp, double radius,
+             const Eigen::Vector3d& motion) {
+  const IndexedFaceSet& m = head.meshes[static_cast<std::size_t>(mesh)];
+  const Eigen::Vector3d centre = *head.featurePointPosition(fp);
+  Points3 d = Points3::Zero(m.vertexCount(), 3);
+  for (Eigen::Index v = 0; v < m.coord.rows(); ++v) {
+    const double r = (m.coord.row(v).transpose() - centre).norm() / radius;
+    if (r < 1) d.row(v) = std::pow(1 - r * r, 3) * motion.transpose();
+  }
+  return d;
+}
 
 Files files() {
   FaceModel model = readObj(kData / "makehuman" / "base.obj");
@@ -37,8 +54,17 @@ Files files() {
                                          m.name.starts_with("helper-l-eye") ||
                                          m.name.starts_with("helper-r-eye");
                                 });
-  Files f{(scratchDir() / "template.glb").string(), (scratchDir() / "target.obj").string()};
+  Files f{(scratchDir() / "template.glb").string(), (scratchDir() / "target.obj").string(),
+          (scratchDir() / "source.glb").string()};
   writeGltf(head, f.templateGlb);
+  FaceModel source = head;
+  const int body = *head.findMesh("body");
+  IndexedFaceSet& skin = source.meshes[static_cast<std::size_t>(body)];
+  skin.morphTargets = {{"fap3_open_jaw@512", bump(head, body, "2.1", 0.8, {0, -0.15, 0})},
+                       {"fap12_raise_l_cornerlip@512", bump(head, body, "8.3", 0.2, {0, 0.05, 0})},
+                       {"fap13_raise_r_cornerlip@512", bump(head, body, "8.4", 0.2, {0, 0.05, 0})}};
+  skin.weights.assign(3, 0.0);
+  writeGltf(source, f.sourceGlb);
   head.featurePoints.clear();
   writeObj(head, f.targetObj);
   return f;
@@ -88,6 +114,31 @@ TEST(CliLandmarks, BadArgumentsAndFacelessHeadsWriteNothing) {
   EXPECT_EQ(faceless.status, 1);
   EXPECT_TRUE(has(faceless.out, "no face found")) << faceless.out;
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// One command: points found from the template, the source's three shapes cloned, tables,
+// the file, the check of a stream; a line per step. A head with its points keeps them.
+TEST(CliAnimate, MakesAHeadWithoutPointsAnimatableInOneStep) {
+  const Files f = files();
+  const std::string out = (scratchDir() / "animated.glb").string();
+  const std::string stream = (kData / "xface-fap" / "test.fap").string();
+  const auto r = runCli("animate " + f.targetObj + " --source " + f.sourceGlb + " --template " +
+                        f.templateGlb + " --stream " + stream + " -o " + out);
+  ASSERT_TRUE(r.status == 0 || r.status == 4) << r.out;
+  for (const char* step : {"read:", "feature points: ", "clone:", "write:", "check:"}) {
+    EXPECT_TRUE(has(r.out, std::string("\n") + step) || r.out.starts_with(step)) << step << r.out;
+  }
+  EXPECT_TRUE(has(r.out, "3 copies of")) << r.out;
+  EXPECT_TRUE(has(r.out, "test.fap: ")) << r.out;
+  const FatGltf written = readFatGltf(out);
+  EXPECT_EQ(written.face.faceDefTables.size(), 3u);
+  EXPECT_GE(written.face.faceSceneGraph.featurePoints.size(), 70u);
+
+  // The template as the head: its own points, no search.
+  const auto own = runCli("animate " + f.templateGlb + " --source " + f.sourceGlb +
+                          " --stream " + stream + " -o " + out);
+  EXPECT_TRUE(has(own.out, "the head's own")) << own.out;
+  EXPECT_EQ(runCli("animate " + f.targetObj + " -o out.fap").status, 2);
 }
 
 }  // namespace
