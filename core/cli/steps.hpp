@@ -72,12 +72,12 @@ class ProgressPrinter {
     const int percent = static_cast<int>(std::lround(100 * std::clamp(fraction, 0.0, 1.0)));
     if (tty_) {
       if (stage == stage_ && percent == percent_) return;
-      std::fprintf(stderr, "\r%s: %3d%% %-48.*s", command_.c_str(), percent, static_cast<int>(stage.size()),
-                   stage.data());
+      std::fprintf(stderr, "\r%s: %3d%% %-48.*s", command_.c_str(), percent,
+                   static_cast<int>(stage.size()), stage.data());
       std::fflush(stderr);
     } else if (stage != stage_) {
-      std::fprintf(stderr, "%s: %3d%% %.*s\n", command_.c_str(), percent, static_cast<int>(stage.size()),
-                   stage.data());
+      std::fprintf(stderr, "%s: %3d%% %.*s\n", command_.c_str(), percent,
+                   static_cast<int>(stage.size()), stage.data());
     }
     stage_ = stage;
     percent_ = percent;
