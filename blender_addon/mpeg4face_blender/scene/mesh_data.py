@@ -86,6 +86,24 @@ def selected_vertices(bm: bmesh.types.BMesh) -> list[int]:
     return [v.index for v in bm.verts if v.select]
 
 
+def set_feature_points(obj: bpy.types.Object, bm: bmesh.types.BMesh,
+                       vertices: dict[str, int]) -> None:
+    """Makes each FP_<fp> hold exactly its vertex, with weight 1, in one pass over the mesh
+    (Find Feature Points sets 80 at once on heads of 50,000 vertices)."""
+    groups = {}
+    for fp, vertex in vertices.items():
+        name = feature_points.group_name(fp)
+        groups[(obj.vertex_groups.get(name) or obj.vertex_groups.new(name=name)).index] = vertex
+    layer = bm.verts.layers.deform.verify()
+    for v in bm.verts:
+        weights = v[layer]
+        for index in groups:
+            if index in weights:
+                del weights[index]
+    for index, vertex in groups.items():
+        bm.verts[vertex][layer][index] = 1.0
+
+
 def set_feature_point(obj: bpy.types.Object, bm: bmesh.types.BMesh, fp: str, vertex: int) -> None:
     """Makes FP_<fp> hold exactly `vertex`, with weight 1 (moving it if it was elsewhere)."""
     name = feature_points.group_name(fp)

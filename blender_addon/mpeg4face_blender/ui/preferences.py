@@ -5,7 +5,7 @@ status (why it is missing and how to fix it) and settings of the panel."""
 import textwrap
 
 import bpy
-from bpy.props import FloatProperty
+from bpy.props import FloatProperty, StringProperty
 
 from .. import native
 
@@ -32,6 +32,14 @@ class MPEG4FACE_AP_preferences(bpy.types.AddonPreferences):
         subtype="FACTOR",
     )
 
+    template_head: StringProperty(
+        name="Template head",
+        description="A head with feature points and FAP, viseme and expression shape keys "
+        "(.glb), such as the ICT sample samples/build/ict_head.glb: Find Feature Points fits "
+        "it to your head, Make Animatable also clones its shape keys",
+        subtype="FILE_PATH",
+    )
+
     def draw(self, context: bpy.types.Context) -> None:
         layout = self.layout
         if unsupported is not None:
@@ -41,6 +49,7 @@ class MPEG4FACE_AP_preferences(bpy.types.AddonPreferences):
         if not lines:
             layout.label(text=native.description(status), icon="CHECKMARK")
             layout.prop(self, "constraint_tolerance")
+            layout.prop(self, "template_head")
             return
         box = layout.box()
         box.alert = True

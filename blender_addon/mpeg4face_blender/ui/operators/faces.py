@@ -21,7 +21,7 @@ import mpeg4face
 from ...logic import feature_points, shape_keys
 from ...scene import mesh_data, poses
 from .. import text as ui_text
-from .feature_points import active_mesh
+from .feature_points import active_mesh, find_feature_points, read_template
 
 # The last "Generate FaceDefTables" (or export) report per object name, for the panel;
 # forgotten when another file is loaded.
@@ -479,6 +479,50 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
                     f"({replaced} replaced)")
 
 
+class MPEG4FACE_OT_make_animatable(bpy.types.Operator):
+    """Make the active head animatable in one step: its feature points found from the
+    template head (unless it has those cloning needs), then the template's FAP, viseme and
+    expression shape keys cloned onto it, ready for Generate FaceDefTables"""
+
+    bl_idname = "mpeg4face.make_animatable"
+    bl_label = "Make Animatable"
+    bl_options = {"REGISTER", "UNDO"}
+
+    template: StringProperty(
+        name="Template head",
+        description="A head with feature points and FAP, viseme and expression shape keys "
+        "(default: the add-on preferences' Template head)",
+        subtype="FILE_PATH",
+    )
+
+    def execute(self, context: bpy.types.Context) -> set[str]:
+        obj = editable_mesh(self, context)
+        if obj is None:
+            return {"CANCELLED"}
+        template = read_template(self, context, self.template)
+        if template is None:
+            return {"CANCELLED"}
+
+        def work(update: Callable[[float], None]) -> bool:
+            _, _, fp_vertices, _ = mesh_data.mesh_and_points(obj)
+            if not feature_points.cloning_points() <= set(fp_vertices):
+                if not find_feature_points(self, obj, template, update):
+                    return False
+            target, _ = mesh_data.read_face_model(obj)
+            try:
+                cloned = mpeg4face.clone_face(
+                    template, target, progress=lambda _stage, fraction: update(1 + fraction))
+            except mpeg4face.Error as error:
+                self.report({"ERROR"}, f"{obj.name}: {error}")
+                return False
+            replaced = write_keys(obj, shape_keys.cloned_shapes(cloned["copies"]))
+            self.report({"INFO"}, f"{obj.name}: {len(cloned['copies'])} shape keys cloned "
+                        f"({replaced} replaced); next, Generate FaceDefTables")
+            return True
+
+        return {"FINISHED"} if with_progress(context, 2, work) else {"CANCELLED"}
+
+
 _classes = (
     MPEG4FACE_OT_add_fap_shape_key,
     MPEG4FACE_PG_key_mapping,
@@ -486,6 +530,7 @@ _classes = (
     MPEG4FACE_OT_mirror_shape_key,
     MPEG4FACE_OT_generate_tables,
     MPEG4FACE_OT_clone_motion,
+    MPEG4FACE_OT_make_animatable,
 )
 
 

@@ -61,7 +61,9 @@ class MPEG4FACE_UL_feature_points(bpy.types.UIList):
         split.label(text=item.fp_id, icon="CHECKMARK" if is_set else "X")
         flags = split.split(factor=0.72)
         part = state.part_points.get(item.fp_id) if state else None
-        flags.label(text=(part or f"v {row.vertex}") if is_set else "missing")
+        found = context.active_object.get("mpeg4face_fp_confidence", {}) if is_set else {}
+        confidence = f" {round(100 * found[item.fp_id])}%" if item.fp_id in found else ""
+        flags.label(text=((part or f"v {row.vertex}") + confidence) if is_set else "missing")
         flags.label(text=("F" if item.needed_for_fapu else "")
                     + ("C" if item.needed_for_cloning else ""))
 
@@ -127,6 +129,8 @@ class MPEG4FACE_PT_feature_points(_Sidebar, bpy.types.Panel):
         col = layout.column(align=True)
         col.operator("mpeg4face.assign_feature_point", text="Assign (Search)...", icon="VIEWZOOM")
         col.operator("mpeg4face.mirror_feature_points", icon="MOD_MIRROR")
+        col.operator("mpeg4face.find_feature_points", icon="SHADERFX")
+        col.operator("mpeg4face.make_animatable", icon="SHAPEKEY_DATA")
 
 
 class MPEG4FACE_PT_fapu(_Sidebar, bpy.types.Panel):
