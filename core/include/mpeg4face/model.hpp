@@ -7,6 +7,7 @@
 //   model/face_shape.hpp      FaceShape: what a FAP, viseme or expression moves, sparse
 //   model/fapu.hpp            the FAPU measured from feature points; Table 6's checks
 //   model/feature_point_snap.hpp  free feature points bound to the vertex they lie on
+//   model/landmarks.hpp       feature points found by registering a template head
 //   model/vertex_normals.hpp  smooth normals of a moving triangle mesh
 //   model/mesh_cut.hpp        a part cut out of a model by a plane (a head off a body)
 //   model/mesh_resample.hpp   meshes resampled to other densities (OpenMesh)
@@ -17,6 +18,7 @@
 #include "mpeg4face/model/face_shape.hpp"      // IWYU pragma: export
 #include "mpeg4face/model/fapu.hpp"            // IWYU pragma: export
 #include "mpeg4face/model/feature_point_snap.hpp"  // IWYU pragma: export
+#include "mpeg4face/model/landmarks.hpp"       // IWYU pragma: export
 #include "mpeg4face/model/mesh_cut.hpp"        // IWYU pragma: export
 #include "mpeg4face/model/mesh_resample.hpp"   // IWYU pragma: export
 #include "mpeg4face/model/surface_bump.hpp"    // IWYU pragma: export
