@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """How well `mpeg4face.find_feature_points` places each sample head's feature points with the
 other sample head as template (docs/landmarks.md): the ICT head from the MakeHuman head and
-the MakeHuman head from the ICT head, each as it is and turned (Z up, facing +X), rescaled
-and moved. Prints, per point group, the median, p90 and largest distance from the head's own
+the MakeHuman head from the ICT head, each as it is, turned (Z up, facing +X), rescaled
+and moved, decimated to half its vertices and subdivided once. Prints, per point group, the median, p90 and largest distance from the head's own
 points in % of its ES0, and the FAPU against those from its own points.
 
     PYTHONPATH=build/release/python python3 scripts/landmarks_evaluation.py
@@ -103,12 +103,20 @@ def cases() -> list[Case]:
         size = np.ptp(np.array([np.asarray(h[target].feature_point_position(fp))
                                 for fp in h[target].feature_points]), axis=0).max()
         # As it is; turned, in centimetres if it was in metres (else in metres), moved onto
-        # a body's height.
+        # a body's height; remeshed: decimated to half its vertices, subdivided once (the
+        # points stripped first, so that no true vertex is kept on purpose).
         scale = 100.0 if size < 1 else 0.01
-        for label, linear, shift in (
-                ("as it is", np.eye(3), np.zeros(3)),
-                ("turned, rescaled, moved", scale * TURN, scale * np.array([0.3, 1.6, -0.2]))):
+        for label, linear, shift, remesh in (
+                ("as it is", np.eye(3), np.zeros(3), None),
+                ("turned, rescaled, moved", scale * TURN, scale * np.array([0.3, 1.6, -0.2]),
+                 None),
+                ("decimated to 50%", np.eye(3), np.zeros(3),
+                 lambda m: mpeg4face.decimate_face_model(m, 0.5)),
+                ("subdivided once", np.eye(3), np.zeros(3),
+                 lambda m: mpeg4face.subdivide_face_model(m, 1))):
             head, truth = moved(h[target], linear, shift)
+            if remesh is not None:
+                head = remesh(head)
             out.append(evaluate(head, truth, h[template],
                                 f"{target} from {template}, {label}"))
     return out

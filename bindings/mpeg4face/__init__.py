@@ -80,6 +80,8 @@ __all__ = [
     "cut_face_model",
     "snap_feature_points",
     "find_feature_points",
+    "decimate_face_model",
+    "subdivide_face_model",
     # files
     "CandideUnit",
     "CandideModel",

@@ -10,6 +10,7 @@
 #include "mpeg4face/model/feature_point_snap.hpp"
 #include "mpeg4face/model/landmarks.hpp"
 #include "mpeg4face/model/mesh_cut.hpp"
+#include "mpeg4face/model/mesh_resample.hpp"
 
 namespace mpeg4face::python {
 namespace {
@@ -523,6 +524,39 @@ diagonal of the box around the feature points). 7.1 and 7.2 stay free. Returns (
 unbound): a new FaceModel, a line per point bound and a line per free point left free.)doc");
 }
 
+void bindResample(py::module_& m) {
+  m.def(
+      "decimate_face_model",
+      [](const PyFaceModel& model, double vertexFraction) {
+        const FaceModel core = toCore(model);
+        FaceModel out;
+        {
+          py::gil_scoped_release release;
+          out = decimateFaceModel(core, vertexFraction);
+        }
+        return fromCore(std::move(out));
+      },
+      "model"_a, "vertex_fraction"_a,
+      R"doc(Each mesh decimated (OpenMesh quadric edge collapse) to about vertex_fraction of its
+vertices, feature-point vertices locked; a neutral (morph targets dropped). Raises
+mpeg4face.Error unless 0 < vertex_fraction <= 1 (docs/mesh-resample.md).)doc");
+  m.def(
+      "subdivide_face_model",
+      [](const PyFaceModel& model, int iterations) {
+        const FaceModel core = toCore(model);
+        FaceModel out;
+        {
+          py::gil_scoped_release release;
+          out = subdivideFaceModel(core, iterations);
+        }
+        return fromCore(std::move(out));
+      },
+      "model"_a, "iterations"_a,
+      R"doc(Each mesh subdivided `iterations` times (modified butterfly: the old vertices keep
+their places and numbers, about 4x the vertices per round); a neutral. Raises mpeg4face.Error
+unless 0 <= iterations <= 4 (docs/mesh-resample.md).)doc");
+}
+
 void bindLandmarks(py::module_& m) {
   m.def(
       "find_feature_points",
@@ -590,6 +624,7 @@ void bindModel(py::module_& m) {
   bindCut(m);
   bindSnap(m);
   bindLandmarks(m);
+  bindResample(m);
 }
 
 }  // namespace mpeg4face::python

