@@ -3,8 +3,10 @@
 """How well `mpeg4face.find_feature_points` places each sample head's feature points with the
 other sample head as template (docs/landmarks.md): the ICT head from the MakeHuman head and
 the MakeHuman head from the ICT head, each as it is, turned (Z up, facing +X), rescaled
-and moved, decimated to half its vertices and subdivided once. Prints, per point group, the median, p90 and largest distance from the head's own
-points in % of its ES0, and the FAPU against those from its own points.
+and moved, decimated to half its vertices and subdivided once. Prints, per point group, the
+median, p90 and largest distance from the head's own points in % of its ES0, and the FAPU
+against those from its own points; with --cloned also how the shapes cloned through the
+points found differ from those cloned through the head's own.
 
     PYTHONPATH=build/release/python python3 scripts/landmarks_evaluation.py
 """
