@@ -38,7 +38,7 @@ def test_each_sample_heads_points_are_found_from_the_other(cases):
         eyes = 100 * np.array([case.errors[p] for p in evaluation.GROUPS["eyes"].split()])
         print(f"{name}: geometric named points median {np.median(named):.1f}, p90 "
               f"{np.percentile(named, 90):.1f}, max {named.max():.1f} % of ES0")
-        assert np.median(named) < 6 and np.percentile(named, 90) < 12 and named.max() < 16, name
+        assert np.median(named) < 5.5 and np.percentile(named, 90) < 9 and named.max() < 10, name
         assert np.median(lips) < 6 and np.median(eyes) < 4, name
         # Every point the template has is placed (MakeHuman has no 11.5: the ICT head lacks it).
         assert len(case.errors) >= 84, name
@@ -52,7 +52,7 @@ def test_the_points_do_not_depend_on_the_heads_axes_size_or_place(cases):
         a = cases[f"{target}, as it is"].errors
         b = cases[f"{target}, turned, rescaled, moved"].errors
         same = [abs(a[p] - b[p]) < 0.01 for p in a]
-        assert np.mean(same) > 0.9, target
+        assert np.mean(same) > 0.97, target
 
 
 def test_pins_and_progress_from_python():

@@ -303,8 +303,7 @@ void refineByRules(const FaceModel& templateHead, const Surface& face, const Mat
     }
     const std::size_t step = std::max<std::size_t>(1, near.size() / 2000);
     for (int it = 0; it < 10; ++it) {
-      Vector3d sum = Vector3d::Zero();
-      double across = 0;
+      Vector3d sum = Vector3d::Zero(), across = Vector3d::Zero();  // across: the midpoints
       int pairs = 0;
       for (std::size_t k = 0; k < near.size(); k += step) {
         const Vector3d p = face.points.row(near[k]);
@@ -314,12 +313,14 @@ void refineByRules(const FaceModel& templateHead, const Surface& face, const Mat
         const ClosestPoint c = face.search->closest(image);
         if ((c.point - image).norm() > 0.05 * es0) continue;
         sum += side > 0 ? Vector3d(p - c.point) : Vector3d(c.point - p);
-        across += normal.dot(p + c.point) / 2;
+        across += (p + c.point) / 2;
         ++pairs;
       }
       if (pairs < 20 || !(sum.norm() > 0)) break;
       normal = sum.normalized();
-      offset = across / pairs;
+      offset = normal.dot(across / pairs);  // with the new normal: far from the origin the
+                                            // old one's offset is off by the turn times the
+                                            // distance
     }
   }
   // Forward and up in the plane.
