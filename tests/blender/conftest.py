@@ -14,7 +14,6 @@ except ImportError:  # plain Python: the tests skip themselves
 
 ADDON = "mpeg4face_blender"
 DATA = Path(__file__).resolve().parent.parent / "data"
-ROOT = Path(__file__).resolve().parents[2]
 
 if bpy is not None:
     addon_utils.enable(ADDON, default_set=True)
@@ -107,29 +106,3 @@ def candide_arkit_shapes(coords, fp_vertices):
     shapes["eyeBlink_L"][fp_vertices["3.1"]] = (0.0, -0.08, 0.0)
     shapes["MouthSmileLeft"][fp_vertices["8.3"]] = (0.03, 0.05, 0.0)
     return shapes
-
-
-def makehuman_skin():
-    """The MakeHuman head's skin as a Blender mesh with its FP_ groups (standard axes to
-    Blender's), and feature point -> vertex."""
-    import sys
-
-    from mpeg4face_blender.logic import feature_points
-
-    sys.path.insert(0, str(ROOT / "samples"))
-    try:
-        import build_samples
-    finally:
-        sys.path.remove(str(ROOT / "samples"))
-    model = build_samples.makehuman_neutral()
-    skin = model.meshes[0]
-    offset = model.transforms[0].translation
-    data = bpy.data.meshes.new("makehuman")
-    data.from_pydata(feature_points.to_blender_axes(skin.coord + offset).tolist(), [],
-                     skin.triangles().tolist())
-    head = bpy.data.objects.new("makehuman", data)
-    bpy.context.scene.collection.objects.link(head)
-    fp_vertices = {fp: b.vertex for fp, b in model.feature_points.items() if b.mesh == 0}
-    for fp, vertex in fp_vertices.items():
-        head.vertex_groups.new(name=feature_points.group_name(fp)).add([vertex], 1.0, "REPLACE")
-    return head, fp_vertices

@@ -6,6 +6,7 @@ land within 5% of their amplitudes at their feature points, and the tables gener
 the posed rig export. Run through run_in_blender.py."""
 
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,8 +22,7 @@ from mpeg4face_blender.logic import rig as rig_logic  # noqa: E402
 from mpeg4face_blender.scene import poses  # noqa: E402
 from mpeg4face_blender.ui.operators import rig as operators_rig  # noqa: E402
 
-from conftest import makehuman_skin  # noqa: E402
-
+ROOT = Path(__file__).resolve().parents[2]
 
 # Rigify ships with Blender as an add-on (in 4.2 and later a core add-on, still "rigify");
 # a Blender without it cannot make the meta-rig.
@@ -42,6 +42,28 @@ LANDMARKS = {("lid.T.L.002", "head"): "3.1", ("lid.T.R.002", "head"): "3.2",
              ("lip.T.L", "head"): "8.1", ("lip.B.L", "head"): "8.2",
              ("chin", "head"): "2.1", ("nose.002", "head"): "9.3",
              ("brow.B.L.002", "head"): "4.3", ("brow.B.R.002", "head"): "4.4"}
+
+
+def makehuman_skin():
+    """The MakeHuman head's skin as a Blender mesh with its FP_ groups (standard axes to
+    Blender's), and feature point -> vertex."""
+    sys.path.insert(0, str(ROOT / "samples"))
+    try:
+        import build_samples
+    finally:
+        sys.path.remove(str(ROOT / "samples"))
+    model = build_samples.makehuman_neutral()
+    skin = model.meshes[0]
+    offset = model.transforms[0].translation
+    data = bpy.data.meshes.new("makehuman")
+    data.from_pydata(feature_points.to_blender_axes(skin.coord + offset).tolist(), [],
+                     skin.triangles().tolist())
+    head = bpy.data.objects.new("makehuman", data)
+    bpy.context.scene.collection.objects.link(head)
+    fp_vertices = {fp: b.vertex for fp, b in model.feature_points.items() if b.mesh == 0}
+    for fp, vertex in fp_vertices.items():
+        head.vertex_groups.new(name=feature_points.group_name(fp)).add([vertex], 1.0, "REPLACE")
+    return head, fp_vertices
 
 
 def face_metarig(head, fp_vertices):
