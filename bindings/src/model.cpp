@@ -524,35 +524,27 @@ diagonal of the box around the feature points). 7.1 and 7.2 stay free. Returns (
 unbound): a new FaceModel, a line per point bound and a line per free point left free.)doc");
 }
 
+// A core resampling as a Python function: the model in, a new model out, the GIL released.
+template <typename Argument>
+auto resampling(FaceModel (*resample)(const FaceModel&, Argument)) {
+  return [resample](const PyFaceModel& model, Argument argument) {
+    const FaceModel core = toCore(model);
+    FaceModel out;
+    {
+      py::gil_scoped_release release;
+      out = resample(core, argument);
+    }
+    return fromCore(std::move(out));
+  };
+}
+
 void bindResample(py::module_& m) {
-  m.def(
-      "decimate_face_model",
-      [](const PyFaceModel& model, double vertexFraction) {
-        const FaceModel core = toCore(model);
-        FaceModel out;
-        {
-          py::gil_scoped_release release;
-          out = decimateFaceModel(core, vertexFraction);
-        }
-        return fromCore(std::move(out));
-      },
-      "model"_a, "vertex_fraction"_a,
-      R"doc(Each mesh decimated (OpenMesh quadric edge collapse) to about vertex_fraction of its
+  m.def("decimate_face_model", resampling(&decimateFaceModel), "model"_a, "vertex_fraction"_a,
+        R"doc(Each mesh decimated (OpenMesh quadric edge collapse) to about vertex_fraction of its
 vertices, feature-point vertices locked; a neutral (morph targets dropped). Raises
 mpeg4face.Error unless 0 < vertex_fraction <= 1 (docs/mesh-resample.md).)doc");
-  m.def(
-      "subdivide_face_model",
-      [](const PyFaceModel& model, int iterations) {
-        const FaceModel core = toCore(model);
-        FaceModel out;
-        {
-          py::gil_scoped_release release;
-          out = subdivideFaceModel(core, iterations);
-        }
-        return fromCore(std::move(out));
-      },
-      "model"_a, "iterations"_a,
-      R"doc(Each mesh subdivided `iterations` times (modified butterfly: the old vertices keep
+  m.def("subdivide_face_model", resampling(&subdivideFaceModel), "model"_a, "iterations"_a,
+        R"doc(Each mesh subdivided `iterations` times (modified butterfly: the old vertices keep
 their places and numbers, about 4x the vertices per round); a neutral. Raises mpeg4face.Error
 unless 0 <= iterations <= 4 (docs/mesh-resample.md).)doc");
 }

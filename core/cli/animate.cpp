@@ -26,26 +26,20 @@
 namespace mpeg4face::cli {
 namespace {
 
-struct AnimateArgs {
+struct AnimateArgs : LandmarkArgs {
   std::string head, output;
-  std::optional<std::string> source, templateHead, featurePoints, stream;
-  std::vector<std::string> pins;
+  std::optional<std::string> source, stream;
 };
 
 AnimateArgs parseArgs(const std::vector<std::string>& args) {
   AnimateArgs out;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    if (takeLandmarkOption(args, i, out)) continue;
     if (a == "-o") {
       out.output = optionValue(args, i, "an output file (.glb, .gltf or .wrl)");
     } else if (a == "--source") {
       out.source = optionValue(args, i, "a head with FAP, viseme and expression shapes");
-    } else if (a == "--template") {
-      out.templateHead = optionValue(args, i, "a head with feature points");
-    } else if (a == "--feature-points") {
-      out.featurePoints = optionValue(args, i, "a CSV file");
-    } else if (a == "--pin") {
-      out.pins.push_back(optionValue(args, i, "FP=VERTEX, FP=MESH:VERTEX or FP=x,y,z"));
     } else if (a == "--stream") {
       out.stream = optionValue(args, i, "a .fap or .fba file");
     } else if (a.starts_with("-")) {

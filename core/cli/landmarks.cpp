@@ -25,26 +25,18 @@
 namespace mpeg4face::cli {
 namespace {
 
-struct LandmarksArgs {
+struct LandmarksArgs : LandmarkArgs {
   std::string head;
   std::string output;
-  std::optional<std::string> featurePoints;
-  std::optional<std::string> templateHead;
-  std::vector<std::string> pins;  // FP=VERTEX, FP=MESH:VERTEX or FP=x,y,z
 };
 
 LandmarksArgs parseArgs(const std::vector<std::string>& args) {
   LandmarksArgs out;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    if (takeLandmarkOption(args, i, out)) continue;
     if (a == "-o") {
       out.output = optionValue(args, i, "an output file (.csv, .glb or .gltf)");
-    } else if (a == "--pin") {
-      out.pins.push_back(optionValue(args, i, "FP=VERTEX, FP=MESH:VERTEX or FP=x,y,z"));
-    } else if (a == "--feature-points") {
-      out.featurePoints = optionValue(args, i, "a CSV file");
-    } else if (a == "--template") {
-      out.templateHead = optionValue(args, i, "a head with feature points");
     } else if (a.starts_with("-")) {
       throw UsageError("unknown option '" + a + "'");
     } else if (out.head.empty()) {
@@ -147,6 +139,21 @@ std::string csvText(const FaceModel& head, const LandmarkResult& found) {
 }
 
 }  // namespace
+
+bool takeLandmarkOption(const std::vector<std::string>& args, std::size_t& i,
+                        LandmarkArgs& out) {
+  const std::string& a = args[i];
+  if (a == "--pin") {
+    out.pins.push_back(optionValue(args, i, "FP=VERTEX, FP=MESH:VERTEX or FP=x,y,z"));
+  } else if (a == "--feature-points") {
+    out.featurePoints = optionValue(args, i, "a CSV file");
+  } else if (a == "--template") {
+    out.templateHead = optionValue(args, i, "a head with feature points");
+  } else {
+    return false;
+  }
+  return true;
+}
 
 LandmarkResult placeFeaturePoints(FaceModel& head, const FaceModel& templateHead,
                                   const std::vector<std::string>& pins,

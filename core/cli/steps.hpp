@@ -46,6 +46,16 @@ MpegFace withCopiesAsShapeKeys(const ClonedFace& cloned);
 // of `animate`. Throws UsageError naming `option` if it has not been built.
 std::string sampleIctHead(const char* option);
 
+// The options `landmarks` and `animate` share: where the points come from.
+struct LandmarkArgs {
+  std::optional<std::string> featurePoints;  // --feature-points CSV
+  std::optional<std::string> templateHead;   // --template T
+  std::vector<std::string> pins;             // --pin FP=..., repeatable
+};
+// Takes args[i] into `out` if it is one of those options (moving i onto its value).
+bool takeLandmarkOption(const std::vector<std::string>& args, std::size_t& i,
+                        LandmarkArgs& out);
+
 // Finds `head`'s feature points from `templateHead` (model/landmarks.hpp), its own points and
 // `pins` (--pin texts: FP=VERTEX, FP=MESH:VERTEX, FP=x,y,z) kept, and binds them in `head`;
 // free points on a surface become its vertices (what that binds is added to `warnings`).

@@ -21,7 +21,7 @@ import mpeg4face
 from ...logic import feature_points, shape_keys
 from ...scene import mesh_data, poses
 from .. import text as ui_text
-from .feature_points import active_mesh, find_feature_points, read_template
+from .feature_points import TemplateHead, active_mesh, find_feature_points, read_template
 
 # The last "Generate FaceDefTables" (or export) report per object name, for the panel;
 # forgotten when another file is loaded.
@@ -479,7 +479,7 @@ class MPEG4FACE_OT_clone_motion(bpy.types.Operator):
                     f"({replaced} replaced)")
 
 
-class MPEG4FACE_OT_make_animatable(bpy.types.Operator):
+class MPEG4FACE_OT_make_animatable(TemplateHead, bpy.types.Operator):
     """Make the active head animatable in one step: its feature points found from the
     template head (unless it has those cloning needs), then the template's FAP, viseme and
     expression shape keys cloned onto it, ready for Generate FaceDefTables"""
@@ -487,13 +487,6 @@ class MPEG4FACE_OT_make_animatable(bpy.types.Operator):
     bl_idname = "mpeg4face.make_animatable"
     bl_label = "Make Animatable"
     bl_options = {"REGISTER", "UNDO"}
-
-    template: StringProperty(
-        name="Template head",
-        description="A head with feature points and FAP, viseme and expression shape keys "
-        "(default: the add-on preferences' Template head)",
-        subtype="FILE_PATH",
-    )
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         obj = editable_mesh(self, context)

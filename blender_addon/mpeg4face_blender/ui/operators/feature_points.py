@@ -172,20 +172,24 @@ def find_feature_points(op: bpy.types.Operator, obj: bpy.types.Object,
     return True
 
 
-class MPEG4FACE_OT_find_feature_points(bpy.types.Operator):
+class TemplateHead:
+    """The template head of the operators that use one."""
+
+    template: StringProperty(
+        name="Template head",
+        description="A head with feature points (and, for Make Animatable, FAP, viseme and "
+        "expression shape keys); default: the add-on preferences' Template head",
+        subtype="FILE_PATH",
+    )
+
+
+class MPEG4FACE_OT_find_feature_points(TemplateHead, bpy.types.Operator):
     """Place every MPEG-4 feature point on the active head by fitting a template head that
     has them; the points you set are kept and pull the fit"""
 
     bl_idname = "mpeg4face.find_feature_points"
     bl_label = "Find Feature Points"
     bl_options = {"REGISTER", "UNDO"}
-
-    template: StringProperty(
-        name="Template head",
-        description="A head with feature points (default: the add-on preferences' Template "
-        "head)",
-        subtype="FILE_PATH",
-    )
 
     def execute(self, context: bpy.types.Context) -> set[str]:
         obj = active_mesh(self, context)
