@@ -216,8 +216,8 @@ constexpr std::array kCommands{
             mpeg4face::cli::runLandmarks},
     Command{"animate", "a head made animatable: feature points, cloned shapes, tables, check",
             "mpeg4face animate HEAD -o OUT.glb|OUT.wrl [--source S] [--template T]\n"
-            "                  [--pin FP=VERTEX|FP=MESH:VERTEX|FP=x,y,z]... [--feature-points CSV]\n"
-            "                  [--stream S.fap]\n"
+            "                  [--pin FP=VERTEX|FP=MESH:VERTEX|FP=x,y,z]...\n"
+            "                  [--feature-points CSV] [--stream S.fap]\n"
             "  The head's feature points (found as `landmarks` finds them unless it has those\n"
             "  cloning needs; its own and the pins are kept), the FAP, viseme and expression\n"
             "  shapes of S cloned onto it, its Face Animation Tables, OUT written, and the\n"
