@@ -240,6 +240,21 @@ int skinOf(const FaceModel& head) {
   return static_cast<int>(best - count.begin());
 }
 
+// A pin's model-space position; throws mpeg4face::Error naming it if its vertex is not in
+// the head.
+Vector3d pinPosition(const FaceModel& target, const std::vector<Eigen::Affine3d>& world,
+                     const std::string& id, const FeaturePointBinding& pin) {
+  if (pin.mesh < 0) return pin.position;
+  const auto mesh = static_cast<std::size_t>(pin.mesh);
+  if (mesh >= target.meshes.size() || pin.vertex < 0 ||
+      pin.vertex >= target.meshes[mesh].vertexCount()) {
+    throw Error({}, 0, "pin " + id,
+                "vertex " + std::to_string(pin.vertex) + " of mesh " +
+                    std::to_string(pin.mesh) + " is not in the head");
+  }
+  return world[mesh] * Vector3d(target.meshes[mesh].coord.row(pin.vertex).transpose());
+}
+
 // The points a rule of their own places better than the fit: the midline points onto the
 // head's symmetry plane, the nose tip as its most forward midline vertex, the subnasale as
 // the deepest midline vertex between the nose tip and the upper lip (the rules both sample
@@ -443,23 +458,11 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
   std::vector<Pair> pins;
   std::map<int, Vector3d> pinnedVertex;  // template skin vertex -> target position
   for (const auto& [id, binding] : options.pins) {
-    const std::optional<Vector3d> at = [&]() -> std::optional<Vector3d> {
-      if (binding.mesh < 0) return binding.position;
-      if (static_cast<std::size_t>(binding.mesh) >= target.meshes.size() || binding.vertex < 0 ||
-          binding.vertex >= target.meshes[static_cast<std::size_t>(binding.mesh)].vertexCount()) {
-        throw Error({}, 0, "pin " + id, "vertex " + std::to_string(binding.vertex) +
-                                            " of mesh " + std::to_string(binding.mesh) +
-                                            " is not in the head");
-      }
-      return targetWorld[static_cast<std::size_t>(binding.mesh)] *
-             Vector3d(target.meshes[static_cast<std::size_t>(binding.mesh)]
-                          .coord.row(binding.vertex)
-                          .transpose());
-    }();
+    const Vector3d at = pinPosition(target, targetWorld, id, binding);
     const auto t = templateHead.featurePoints.find(id);
     if (t == templateHead.featurePoints.end() || t->second.mesh != skinMesh) continue;
-    pins.push_back({skin.points.row(t->second.vertex).transpose(), *at, 1.0});
-    pinnedVertex[t->second.vertex] = *at;
+    pins.push_back({skin.points.row(t->second.vertex).transpose(), at, 1.0});
+    pinnedVertex[t->second.vertex] = at;
   }
 
   // 1. Similarity alignment: from the pins if they fix it, else from every axis candidate.
@@ -753,12 +756,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
   for (const auto& [id, binding] : options.pins) {
     PlacedFeaturePoint pin;
     pin.binding = binding;
-    if (binding.mesh >= 0) {
-      pin.binding.position = targetWorld[static_cast<std::size_t>(binding.mesh)] *
-                             Vector3d(target.meshes[static_cast<std::size_t>(binding.mesh)]
-                                          .coord.row(binding.vertex)
-                                          .transpose());
-    }
+    pin.binding.position = pinPosition(target, targetWorld, id, binding);
     pin.confidence = 1;
     pin.rule = "pin";
     result.points[id] = pin;
