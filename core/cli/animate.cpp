@@ -16,10 +16,7 @@
 #include "mpeg4face/clone/clone.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/motion_check.hpp"
-#include "mpeg4face/io/fat_gltf.hpp"
 #include "mpeg4face/io/read_any.hpp"
-#include "mpeg4face/io/vrml.hpp"
-#include "mpeg4face/model/fapu.hpp"
 #include "paths.hpp"
 #include "steps.hpp"
 
@@ -116,17 +113,8 @@ int runAnimate(const std::vector<std::string>& args) {
   }
   requireCloneFeaturePoints(head, a.head, "--pin or --feature-points");
 
-  std::vector<std::string> sourceWarnings;
-  const CloneSource source = readCloneSource(sourcePath, std::nullopt, sourceWarnings);
-  // The source's other shape keys (an ARKit head's own) are not cloned: counted, not listed.
-  std::size_t ignored = 0;
-  for (const std::string& w : sourceWarnings) {
-    if (w.ends_with("is not a FAP, viseme or expression: ignored")) {
-      ++ignored;
-    } else {
-      warnings.push_back(w);
-    }
-  }
+  // The source's other shape keys (an ARKit head's own) are counted below, not listed.
+  const CloneSource source = readCloneSource(sourcePath, std::nullopt, warnings);
   requireCloneFeaturePoints(source.neutral, sourcePath, "a source with feature points");
   CloneOptions options;
   ProgressPrinter printer("animate");
@@ -134,15 +122,11 @@ int runAnimate(const std::vector<std::string>& args) {
   const ClonedFace cloned = cloneFace(source.neutral, source.copies, head, options);
   printer.finish();
   steps.done("clone", "%zu copies of %s (%zu other shape keys left) -> %zu tables",
-             cloned.copies.size(), sourcePath.c_str(), ignored, cloned.face.faceDefTables.size());
+             cloned.copies.size(), sourcePath.c_str(), source.ignored.size(),
+             cloned.face.faceDefTables.size());
   warnings.insert(warnings.end(), cloned.warnings.begin(), cloned.warnings.end());
 
-  if (isGltf(a.output)) {
-    writeFatGltf(withCopiesAsShapeKeys(cloned), measureFapu(cloned.face.faceSceneGraph), {},
-                 a.output);
-  } else {
-    writeVrml(cloned.face, a.output);
-  }
+  writeClonedFace(cloned, a.output);
   steps.done("write", "%s", a.output.c_str());
 
   const MotionCheck check = checkMotion(cloned.face, std::span(&stream, 1));

@@ -115,16 +115,13 @@ CloneSource readCloneSource(const std::string& path,
   FaceModel model = readModel(path);
   bindFeaturePoints(featurePoints, model, warnings);
   ShapeKeyCopies keys = shapesFromShapeKeys(model);
-  for (const std::string& name : keys.ignored) {
-    warnings.push_back("source shape key or animation '" + name +
-                       "' is not a FAP, viseme or expression: ignored");
-  }
   if (keys.copies.empty()) {
     throw Error(path, 0, "morph targets",
                 "neither Face Animation Tables nor a shape key named as a FAP, viseme or "
                 "expression (e.g. fap3_open_jaw@512; grammar in docs/fat.md)");
   }
-  CloneSource out{std::move(model), std::move(keys.copies), "shape keys"};
+  CloneSource out{std::move(model), std::move(keys.copies), "shape keys",
+                  std::move(keys.ignored)};
   out.neutral = neutralFaceModel(std::move(out.neutral));
   return out;
 }
@@ -139,6 +136,8 @@ void requireCloneFeaturePoints(const FaceModel& model, const std::string& path,
               "missing feature points that cloning needs: " + list + " (bind them with " + option +
                   " CSV)");
 }
+
+namespace {
 
 // The target with its tables, plus each cloned copy's vertex motion as a shape key named
 // like the copy (Transform motion is in the tables only), so that the file can be edited
@@ -156,10 +155,25 @@ MpegFace withCopiesAsShapeKeys(const ClonedFace& cloned) {
   return out;
 }
 
+}  // namespace
+
+void writeClonedFace(const ClonedFace& cloned, const std::string& path) {
+  if (isGltf(path)) {
+    writeFatGltf(withCopiesAsShapeKeys(cloned), measureFapu(cloned.face.faceSceneGraph), {},
+                 path);
+  } else {
+    writeVrml(cloned.face, path);
+  }
+}
+
 int runClone(const std::vector<std::string>& rawArgs) {
   Args args = parseArgs(rawArgs);
   std::vector<std::string> warnings;
   const CloneSource source = readCloneSource(args.source, args.sourceFeaturePoints, warnings);
+  for (const std::string& name : source.ignored) {
+    warnings.push_back("source shape key or animation '" + name +
+                       "' is not a FAP, viseme or expression: ignored");
+  }
 
   FaceModel target = readModel(args.target);
   bindFeaturePoints(args.targetFeaturePoints, target, warnings);
@@ -173,12 +187,7 @@ int runClone(const std::vector<std::string>& rawArgs) {
   };
   const ClonedFace cloned = cloneFace(source.neutral, source.copies, target, args.options);
   printer("writing", 1.0);
-  if (isGltf(args.output)) {
-    writeFatGltf(withCopiesAsShapeKeys(cloned), measureFapu(cloned.face.faceSceneGraph), {},
-                 args.output);
-  } else {
-    writeVrml(cloned.face, args.output);
-  }
+  writeClonedFace(cloned, args.output);
   printer.finish();
 
   std::printf("%s: %zu copies (from %s) -> %s: %zu copies, %zu tables\n", args.source.c_str(),

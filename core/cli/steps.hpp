@@ -27,10 +27,13 @@ struct CloneSource {
   FaceModel neutral;
   std::vector<FaceShape> copies;
   std::string kind;  // "tables" or "shape keys"
+  // Its shape keys and animations not in the grammar (an ARKit head's own): not cloned.
+  std::vector<std::string> ignored;
 };
 
 // A .wrl with tables; a glTF written with tables (writeFatGltf), else a glTF head whose
-// shape keys are named copies (fat/names.hpp). `featurePoints`: a CSV bound over the file's.
+// shape keys are named copies (fat/names.hpp), the others in `ignored`. `featurePoints`: a
+// CSV bound over the file's.
 CloneSource readCloneSource(const std::string& path,
                             const std::optional<std::string>& featurePoints,
                             std::vector<std::string>& warnings);
@@ -38,9 +41,10 @@ CloneSource readCloneSource(const std::string& path,
 // telling the user to bind them with `option`.
 void requireCloneFeaturePoints(const FaceModel& model, const std::string& path,
                                const char* option);
-// The target with its tables, plus each cloned copy's vertex motion as a shape key named
-// like the copy, so that the file can be edited and fed to `fat generate` again.
-MpegFace withCopiesAsShapeKeys(const ClonedFace& cloned);
+// The cloned face written: a .wrl with its tables, or a glTF with its tables plus each cloned
+// copy's vertex motion as a shape key named like the copy, so that the file can be edited
+// and fed to `fat generate` again.
+void writeClonedFace(const ClonedFace& cloned, const std::string& path);
 
 // The ICT sample head samples/build.sh makes: the default template of `landmarks` and source
 // of `animate`. Throws UsageError naming `option` if it has not been built.
