@@ -68,19 +68,6 @@ std::string sampleIctHead(const char* option) {
 
 namespace {
 
-// The face mesh the algorithm will take (the one with the most triangles), for FP=VERTEX.
-int largestMesh(const FaceModel& model) {
-  int best = -1;
-  std::size_t most = 0;
-  for (std::size_t m = 0; m < model.meshes.size(); ++m) {
-    if (model.meshes[m].triangles().size() > most) {
-      most = model.meshes[m].triangles().size();
-      best = static_cast<int>(m);
-    }
-  }
-  return best;
-}
-
 // One --pin: FP=VERTEX (of the face mesh), FP=MESH:VERTEX or FP=x,y,z (model space).
 std::pair<std::string, FeaturePointBinding> parsePin(const std::string& text,
                                                      const FaceModel& model) {
@@ -111,7 +98,7 @@ std::pair<std::string, FeaturePointBinding> parsePin(const std::string& text,
     if (!found) throw bad("the head has no mesh '" + mesh + "'");
     b.mesh = *found;
   } else {
-    b.mesh = largestMesh(model);
+    b.mesh = landmarkFaceMesh(model);
   }
   const std::optional<int> vertex =
       parseInt(colon == std::string::npos ? where : where.substr(colon + 1));

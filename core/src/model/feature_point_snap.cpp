@@ -90,13 +90,7 @@ FeaturePointSnap snapFeaturePointsToVertices(FaceModel& model, double tolerance)
                           percent(tolerance) + " allowed)"));
       continue;
     }
-    int vertex = found.corners[0];
-    for (const int c : found.corners) {
-      if ((points[static_cast<std::size_t>(mesh)].row(c).transpose() - q).norm() <
-          (points[static_cast<std::size_t>(mesh)].row(vertex).transpose() - q).norm()) {
-        vertex = c;
-      }
-    }
+    const int vertex = nearestCorner(points[static_cast<std::size_t>(mesh)], found, q);
     const double away =
         (points[static_cast<std::size_t>(mesh)].row(vertex).transpose() - q).norm();
     binding = {mesh, vertex, Eigen::Vector3d::Zero()};

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <utility>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -31,6 +32,7 @@ struct Surface {
   Points3 points;
   std::vector<int> triangles;
   std::unique_ptr<SurfaceClosestPoint> search;
+  std::vector<std::pair<int, int>> edges;  // each once, (lower, higher) vertex, sorted
   std::vector<bool> boundary;  // per vertex: on an edge of one triangle (a cut, a hole)
 
   int triangleCount() const { return static_cast<int>(triangles.size() / 3); }
@@ -54,18 +56,25 @@ Surface surfaceOf(const FaceModel& model, const std::vector<Eigen::Affine3d>& wo
   std::vector<int> ids(s.triangles.size() / 3);
   std::iota(ids.begin(), ids.end(), 0);
   if (!ids.empty()) s.search = std::make_unique<SurfaceClosestPoint>(s.points, s.triangles, ids);
-  // Boundary vertices: an edge used once.
-  std::map<std::pair<int, int>, int> uses;
+  // Every triangle's edges, sorted: an edge that appears once is on the boundary.
+  std::vector<std::pair<int, int>> sides;
   for (std::size_t t = 0; t + 2 < s.triangles.size(); t += 3) {
     for (std::size_t k = 0; k < 3; ++k) {
       const int a = s.triangles[t + k], b = s.triangles[t + (k + 1) % 3];
-      ++uses[{std::min(a, b), std::max(a, b)}];
+      sides.emplace_back(std::min(a, b), std::max(a, b));
     }
   }
+  std::sort(sides.begin(), sides.end());
   s.boundary.assign(static_cast<std::size_t>(coord.rows()), false);
-  for (const auto& [edge, count] : uses) {
-    if (count == 1) s.boundary[static_cast<std::size_t>(edge.first)] =
-        s.boundary[static_cast<std::size_t>(edge.second)] = true;
+  for (std::size_t i = 0; i < sides.size();) {
+    std::size_t j = i;
+    while (j < sides.size() && sides[j] == sides[i]) ++j;
+    if (j - i == 1) {
+      s.boundary[static_cast<std::size_t>(sides[i].first)] = true;
+      s.boundary[static_cast<std::size_t>(sides[i].second)] = true;
+    }
+    s.edges.push_back(sides[i]);
+    i = j;
   }
   return s;
 }
@@ -421,6 +430,19 @@ void refineByRules(const FaceModel& templateHead, const Surface& face, const Mat
 
 }  // namespace
 
+int landmarkFaceMesh(const FaceModel& head) {
+  int best = -1;
+  std::size_t most = 0;
+  for (std::size_t m = 0; m < head.meshes.size(); ++m) {
+    const std::size_t n = head.meshes[m].triangles().size();
+    if (n > most) {
+      most = n;
+      best = static_cast<int>(m);
+    }
+  }
+  return best;
+}
+
 LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templateHead,
                                  const LandmarkOptions& options) {
   const auto progress = [&](double f, std::string_view step) {
@@ -430,16 +452,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
   templateHead.validate();
   LandmarkResult result;
 
-  // The target's face: its mesh with the most triangles.
-  int faceMesh = -1;
-  std::size_t most = 0;
-  for (std::size_t m = 0; m < target.meshes.size(); ++m) {
-    const std::size_t n = target.meshes[m].triangles().size();
-    if (n > most) {
-      most = n;
-      faceMesh = static_cast<int>(m);
-    }
-  }
+  const int faceMesh = landmarkFaceMesh(target);
   if (faceMesh < 0) throw Error("the head has no faces: there is no surface to place points on");
   result.faceMesh = faceMesh;
   const std::vector<Eigen::Affine3d> targetWorld = target.meshWorldMatrices();
@@ -559,20 +572,11 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
   const Eigen::Index n = skin.points.rows();
   Points3 aligned(n, 3);
   for (Eigen::Index v = 0; v < n; ++v) aligned.row(v) = best(skin.points.row(v).transpose());
-  std::vector<std::pair<int, int>> edges;
-  for (std::size_t t = 0; t + 2 < skin.triangles.size(); t += 3) {
-    for (std::size_t k = 0; k < 3; ++k) {
-      const int a = skin.triangles[t + k], b = skin.triangles[t + (k + 1) % 3];
-      edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   Eigen::SparseMatrix<double> laplacian(n, n);
   {
     std::vector<Eigen::Triplet<double>> entries;
     for (Eigen::Index v = 0; v < n; ++v) entries.emplace_back(v, v, 0.0);
-    for (const auto& [a, b] : edges) {
+    for (const auto& [a, b] : skin.edges) {
       entries.emplace_back(a, a, 1.0);
       entries.emplace_back(b, b, 1.0);
       entries.emplace_back(a, b, -1.0);
@@ -691,11 +695,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
     if (binding.mesh == skinMesh) {
       const Vector3d y = fitted.row(binding.vertex);
       const ClosestPoint c = face.search->closest(y);
-      int nearest = c.corners[0];
-      for (int k : c.corners) {
-        if ((face.points.row(k).transpose() - c.point).norm() <
-            (face.points.row(nearest).transpose() - c.point).norm()) nearest = k;
-      }
+      const int nearest = nearestCorner(face.points, c, c.point);
       placed.binding.mesh = faceMesh;
       placed.binding.vertex = nearest;
       placed.binding.position = face.points.row(nearest);
@@ -726,8 +726,8 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
                                    partName + "' puts it");
         continue;
       }
-      int vertex = c.corners[0];
       const bool pupil = id == "3.5" || id == "3.6";
+      int vertex = pupil ? c.corners[0] : nearestCorner(on->points, c, c.point);
       if (pupil) {
         // The pupil: the eye mesh's most forward vertex near the carried point.
         double ahead = -std::numeric_limits<double>::infinity();
@@ -736,11 +736,6 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
           if ((q - y).norm() > 0.3 * es0 || q.dot(front) <= ahead) continue;
           ahead = q.dot(front);
           vertex = static_cast<int>(v);
-        }
-      } else {
-        for (int k : c.corners) {
-          if ((on->points.row(k).transpose() - c.point).norm() <
-              (on->points.row(vertex).transpose() - c.point).norm()) vertex = k;
         }
       }
       placed.binding.mesh = on->mesh;

@@ -21,6 +21,18 @@ struct ClosestPoint {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
 };
 
+// The corner of `c`'s triangle nearest `to` (the query, or c.point itself): the vertex a point
+// found on the surface binds to.
+inline int nearestCorner(const Points3& points, const ClosestPoint& c, const Eigen::Vector3d& to) {
+  int vertex = c.corners[0];
+  for (const int k : c.corners) {
+    if ((points.row(k).transpose() - to).norm() < (points.row(vertex).transpose() - to).norm()) {
+      vertex = k;
+    }
+  }
+  return vertex;
+}
+
 class SurfaceClosestPoint {
  public:
   // `triangles`: three point indices each; `ids`: those of them to search.

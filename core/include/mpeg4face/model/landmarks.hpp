@@ -50,9 +50,13 @@ struct LandmarkResult {
   double fitResidual = 0;
 };
 
+// The mesh findFeaturePoints takes as the head's face: the one with the most triangles; -1
+// if no mesh has any.
+int landmarkFaceMesh(const FaceModel& head);
+
 // Places the feature points of `templateHead` (a head with feature points on the vertices of
 // its skin, eyes, teeth and tongue meshes, in MPEG-4's axes: y up, looking along +z) on
-// `target`. The target's face is its mesh with the most triangles; eyes, teeth and tongue are
+// `target`. The target's face is landmarkFaceMesh(target); eyes, teeth and tongue are
 // found among its other meshes by where the template puts them. Throws mpeg4face::Error,
 // naming what is missing, for a target without faces, a template without enough feature
 // points, and a target on which no alignment makes the template's face fit (a sphere, a cube:
