@@ -52,6 +52,9 @@ class Case:
     errors: dict[str, float]  # id -> distance in ES0 of the head's own points
     fapu: dict[str, float]  # FAPU name -> relative difference from the own points' FAPU
     seconds: float
+    # id -> (the mesh found on, the mesh of the head's own point), for the points on a mesh
+    # other than the face (eyes, teeth, tongue)
+    parts: dict[str, tuple[str, str]]
 
 
 def heads() -> dict[str, mpeg4face.FaceModel]:
@@ -75,7 +78,7 @@ def moved(head: mpeg4face.FaceModel, linear: np.ndarray, shift: np.ndarray
 
 
 def evaluate(target: mpeg4face.FaceModel, truth: dict[str, np.ndarray],
-             template: mpeg4face.FaceModel, name: str) -> Case:
+             template: mpeg4face.FaceModel, name: str, own_meshes: dict[str, str]) -> Case:
     import time
     start = time.perf_counter()
     points, _ = mpeg4face.find_feature_points(target, template)
@@ -95,7 +98,16 @@ def evaluate(target: mpeg4face.FaceModel, truth: dict[str, np.ndarray],
             for n in ("es0", "irisd0", "ens0", "mns0", "mw0")
             if getattr(a, n).measured and getattr(b, n).measured}
     placed = {fp: np.asarray(found.feature_point_position(fp)) for fp in points}
-    return Case(name, target, placed, truth, errors, fapu, seconds)
+    parts = {fp: (target.meshes[b.mesh].name if b.mesh >= 0 else "", mesh)
+             for fp, mesh in own_meshes.items() if (b := points.get(fp, (None,))[0])}
+    return Case(name, target, placed, truth, errors, fapu, seconds, parts)
+
+
+def part_meshes(head: mpeg4face.FaceModel) -> dict[str, str]:
+    """The head's points on a mesh other than its face (eyes, teeth, tongue): id -> mesh."""
+    face = max(range(len(head.meshes)), key=lambda m: len(head.meshes[m].triangles()))
+    return {fp: head.meshes[b.mesh].name for fp, b in head.feature_points.items()
+            if b.mesh >= 0 and b.mesh != face}
 
 
 def cases() -> list[Case]:
@@ -119,8 +131,8 @@ def cases() -> list[Case]:
             head, truth = moved(h[target], linear, shift)
             if remesh is not None:
                 head = remesh(head)
-            out.append(evaluate(head, truth, h[template],
-                                f"{target} from {template}, {label}"))
+            out.append(evaluate(head, truth, h[template], f"{target} from {template}, {label}",
+                                part_meshes(h[target])))
     return out
 
 

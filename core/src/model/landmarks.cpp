@@ -173,6 +173,34 @@ constexpr double kPinWeight = 1e3;
 // lie, in ES0.
 constexpr double kPartReach = 0.25;
 
+// How many of a template part's vertices vote for the head's mesh it lands on.
+constexpr std::size_t kPartVoters = 200;
+
+// The vertices joined to `vertex` by the mesh's triangles, ascending.
+std::vector<int> connectedPiece(const IndexedFaceSet& mesh, int vertex) {
+  std::vector<int> parent(static_cast<std::size_t>(mesh.vertexCount()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v) {
+      v = parent[static_cast<std::size_t>(v)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    }
+    return v;
+  };
+  const std::vector<int> triangles = mesh.triangles();
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    for (std::size_t k = 1; k < 3; ++k) {
+      parent[static_cast<std::size_t>(root(triangles[t + k]))] = root(triangles[t]);
+    }
+  }
+  std::vector<int> piece;
+  const int r = root(vertex);
+  for (int v = 0; v < mesh.vertexCount(); ++v) {
+    if (root(v) == r) piece.push_back(v);
+  }
+  return piece;
+}
+
 struct Pair {
   Vector3d from, to;
   double weight;
@@ -688,6 +716,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
     if (static_cast<int>(m) == faceMesh || target.meshes[m].triangles().empty()) continue;
     parts.push_back(surfaceOf(target, targetWorld, static_cast<int>(m)));
   }
+  std::map<std::pair<int, int>, int> partVotes;  // template (mesh, vertex) -> parts index
   for (const auto& [id, binding] : templateHead.featurePoints) {
     const std::optional<Vector3d> at = templateHead.featurePointPosition(id);
     if (!at) continue;
@@ -707,17 +736,42 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
       placed.rule = "carried (inside the head)";
     } else {
       const Vector3d y = carry(*at);
-      double nearest = std::numeric_limits<double>::infinity();
+      // The head's mesh that the template's part (the connected piece of its mesh that holds
+      // the point: an upper tooth row, a tongue) lands on, by a vote of the piece's vertices:
+      // upper and lower teeth meet in a closed mouth, so the mesh nearest the point alone
+      // put a lower tooth's point on the upper row and the tongue tip on the lower teeth.
       const Surface* on = nullptr;
-      ClosestPoint c;
-      for (const Surface& part : parts) {
-        const ClosestPoint pc = part.search->closest(y);
-        if ((pc.point - y).norm() < nearest) {
-          nearest = (pc.point - y).norm();
-          on = &part;
-          c = pc;
+      const auto key = std::pair{binding.mesh, binding.vertex};
+      auto voted = partVotes.find(key);
+      if (voted == partVotes.end()) {
+        const Points3& coord = templateHead.meshes[static_cast<std::size_t>(binding.mesh)].coord;
+        const std::vector<int> piece = connectedPiece(
+            templateHead.meshes[static_cast<std::size_t>(binding.mesh)], binding.vertex);
+        std::vector<int> votes(parts.size(), 0);
+        const std::size_t step = std::max<std::size_t>(1, piece.size() / kPartVoters);
+        for (std::size_t i = 0; i < piece.size(); i += step) {
+          const Vector3d q = carry(templateWorld[static_cast<std::size_t>(binding.mesh)] *
+                                   Vector3d(coord.row(piece[i]).transpose()));
+          double nearest = std::numeric_limits<double>::infinity();
+          std::size_t closest = parts.size();
+          for (std::size_t k = 0; k < parts.size(); ++k) {
+            const double d = (parts[k].search->closest(q).point - q).norm();
+            if (d < nearest) {
+              nearest = d;
+              closest = k;
+            }
+          }
+          if (closest < parts.size() && nearest <= kPartReach * es0) ++votes[closest];
         }
+        const auto most = std::max_element(votes.begin(), votes.end());
+        voted = partVotes.emplace(key, most == votes.end() || *most == 0
+                                           ? -1
+                                           : static_cast<int>(most - votes.begin()))
+                    .first;
       }
+      if (voted->second >= 0) on = &parts[static_cast<std::size_t>(voted->second)];
+      const ClosestPoint c = on ? on->search->closest(y) : ClosestPoint{};
+      const double nearest = on ? (c.point - y).norm() : std::numeric_limits<double>::infinity();
       const std::string& partName =
           templateHead.meshes[static_cast<std::size_t>(binding.mesh)].name;
       if (!on || nearest > kPartReach * es0) {
