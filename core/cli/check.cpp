@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <functional>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "commands.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/motion_check.hpp"
+#include "mpeg4face/io/fat_gltf.hpp"
 #include "mpeg4face/io/read_any.hpp"
 #include "mpeg4face/io/vrml.hpp"
 #include "paths.hpp"
@@ -281,8 +283,16 @@ void printMotionCheckSummary(const std::string& head, const MotionCheck& check) 
 int runCheck(const std::vector<std::string>& rawArgs) {
   const Args args = parseArgs(rawArgs);
   // Read everything first: a stream that does not read stops before the work.
-  const bool face = extensionOf(args.head) == ".wrl";
-  const MpegFace wrl = face ? readVrml(args.head) : MpegFace{};
+  // A face with tables (a .wrl, or a glTF file that mpeg4face wrote with them: fat generate,
+  // clone, animate) is checked through them, as it plays; a head by its shape keys.
+  std::optional<MpegFace> tables;
+  if (extensionOf(args.head) == ".wrl") {
+    tables = readVrml(args.head);
+  } else if (isGltf(args.head)) {
+    if (std::optional<FatGltf> fat = readFatGltfIfAny(args.head)) tables = std::move(fat->face);
+  }
+  const bool face = tables.has_value();
+  const MpegFace wrl = face ? std::move(*tables) : MpegFace{};
   const FaceModel head = face ? FaceModel{} : readModel(args.head);
   std::vector<FapStream> streams;
   for (const std::string& path : args.streams) {

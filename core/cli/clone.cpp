@@ -97,17 +97,8 @@ CloneSource readCloneSource(const std::string& path,
     const FapuMeasurement fapu = measureFapu(face.faceSceneGraph);
     return tablesSource(std::move(face), fapu, path);
   }
-  std::optional<FatGltf> fat;
-  try {
-    fat = readFatGltf(path);
-  } catch (const Error& e) {
-    // Only "no tables at all" sends us to the shape keys; broken tables are an error.
-    if (!e.field().ends_with("extras.mpeg4face.faceDefTables") ||
-        !e.reason().starts_with("the file has no Face Animation Tables")) {
-      throw;
-    }
-  }
-  if (fat) {
+  // Only "no tables at all" sends us to the shape keys; broken tables are an error.
+  if (std::optional<FatGltf> fat = readFatGltfIfAny(path)) {
     bindFeaturePoints(featurePoints, fat->face.faceSceneGraph, warnings);
     // The file's own FAPU: the one its targets were scaled with.
     return tablesSource(std::move(fat->face), fat->fapu, path);

@@ -548,4 +548,10 @@ FatGltf readFatGltf(const std::filesystem::path& path) {
   return ExtrasReader(file, path.string()).read();
 }
 
+std::optional<FatGltf> readFatGltfIfAny(const std::filesystem::path& path) {
+  gltf_internal::ReadResult file = gltf_internal::readGltf(path);
+  if (!file.extras.IsObject() || !file.extras.Has("faceDefTables")) return std::nullopt;
+  return ExtrasReader(file, path.string()).read();
+}
+
 }  // namespace mpeg4face

@@ -8,6 +8,7 @@
 #include "motion_check_fixture.hpp"
 #include "mpeg4face/fat/names.hpp"
 #include "mpeg4face/io/fap_file.hpp"
+#include "mpeg4face/io/fat_gltf.hpp"
 #include "mpeg4face/io/gltf.hpp"
 #include "mpeg4face/io/vrml.hpp"
 #include "test_support.hpp"
@@ -122,6 +123,18 @@ TEST(CliCheck, FaceWithTables) {
   for (const auto& k : j["keys"]) names.push_back(k["name"]);
   EXPECT_EQ(names, (std::vector<std::string>{"expression1", "fap3_open_jaw@1024"}));
   EXPECT_NEAR(j["keys"][0]["edge_ratio_max"].get<double>(), 3.0, 1e-5);
+
+  // A glTF file with tables (what fat generate, clone and animate write) is checked through
+  // them as the .wrl is: its interval targets ("expression1_stretch[0,63]") are no shape keys.
+  const MpegFace generated = faceFromShapeKeys(readGltf(head)).face;
+  const std::string glb = (scratchDir() / "bad_tables.glb").string();
+  writeFatGltf(generated, measureFapu(generated.faceSceneGraph), {}, glb);
+  const auto g = runCli("check " + glb + " --json");
+  EXPECT_EQ(g.status, 4) << g.out;
+  const auto k = nlohmann::json::parse(g.stdoutOnly);
+  EXPECT_EQ(k["keys"].size(), 2u);
+  EXPECT_EQ(k["keys"][1]["name"], "fap3_open_jaw@1024");
+  EXPECT_NEAR(k["keys"][0]["edge_ratio_max"].get<double>(), 3.0, 1e-5);
 }
 
 TEST(CliCheck, BadInput) {

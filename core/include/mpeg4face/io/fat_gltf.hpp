@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -69,6 +70,10 @@ struct FatGltf {
 // "scenes[0].extras.mpeg4face.faceDefTables[1].faceDefMesh[0].targets") when the extras are
 // missing or inconsistent with the file.
 FatGltf readFatGltf(const std::filesystem::path& path);
+// readFatGltf for any glTF file: std::nullopt when it holds no tables (no
+// extras.mpeg4face.faceDefTables: a plain head, whose shape keys are its face); tables that
+// do not read still throw.
+std::optional<FatGltf> readFatGltfIfAny(const std::filesystem::path& path);
 // From bytes in memory, as parseGltf.
 FatGltf parseFatGltf(std::string_view bytes, const std::string& fileName,
                      const std::filesystem::path& baseDir = {});
