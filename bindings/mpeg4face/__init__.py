@@ -124,6 +124,7 @@ __all__ = [
     "vertex_normals",
     "clone_feature_points",
     "clone_face",
+    "CloneRelaxation",
     "FitTable",
     "read_fit_json",
     "fit_table_from_json",
@@ -131,6 +132,7 @@ __all__ = [
     # the motion check
     "check_motion",
     "surface_bump",
+    "relax_displacement",
     # ARKit blendshapes
     "arkit_shape_names",
     "arkit_shape_index",

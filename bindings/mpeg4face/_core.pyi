@@ -660,12 +660,29 @@ class ClonedFace(TypedDict):
     warnings: list[str]
 
 def clone_feature_points() -> list[str]: ...
+class CloneRelaxation:
+    fap_passes: int
+    fringe_passes: int
+    fringe_below: float
+    attached_neighbours: int
+    attached_passes: int
+    def __init__(
+        self,
+        *,
+        fap_passes: int = 4,
+        fringe_passes: int = 2,
+        fringe_below: float = 0.2,
+        attached_neighbours: int = 16,
+        attached_passes: int = 4,
+    ) -> None: ...
+
 def clone_face(
     source: FaceModel | MpegFace,
     target: FaceModel,
     filter_support: float = 0.02,
     adaptive_filter: bool = True,
     rigid_parts: bool = True,
+    relaxation: CloneRelaxation | None = None,
     progress: Callable[[str, float], None] | None = None,
 ) -> ClonedFace: ...
 
@@ -756,6 +773,13 @@ def surface_bump(
     spike_ratio: float = 0.75,
     spike_of_peak: float = 0.05,
 ) -> SurfaceBump: ...
+def relax_displacement(
+    mesh: IndexedFaceSet,
+    displacements: _ArrayLike,
+    passes: int,
+    *,
+    where: _ArrayLike | None = None,
+) -> _Float64: ...
 # Face captures (Live Link Face, ARKit weights; docs/arkit.md)
 def livelink_channel_names() -> list[str]: ...
 

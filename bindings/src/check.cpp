@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bindings.hpp"
+#include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/motion_check.hpp"
 #include "mpeg4face/fat/tables.hpp"
 #include "mpeg4face/model/surface_bump.hpp"
@@ -163,6 +164,33 @@ void bindCheck(py::module_& m) {
       "least 2% of the peak; bump_ratio_max, the largest bump / local_motion where bump > "
       "spike_of_peak * peak; spikes (int32, ascending), the vertices where bump > spike_of_peak "
       "* peak and bump > spike_ratio * local_motion.");
+
+  m.def(
+      "relax_displacement",
+      [](const PyMesh& mesh, py::handle displacements, int passes, py::handle where) {
+        IndexedFaceSet core = toCore(mesh, "mesh", Depth::Geometry);
+        core.coordIndex = indicesToCore(mesh.coordIndex, "mesh.coord_index");
+        const py::array_t<double> d = checkedRows(displacements, "displacements", 3);
+        Points3 field = Eigen::Map<const Points3>(d.data(), d.shape(0), 3);
+        std::vector<bool> mask;
+        if (!where.is_none()) {
+          const auto w =
+              py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(where);
+          if (!w || w.ndim() != 1) throw Error({}, 0, "where", "expected a (N,) bool array");
+          mask.assign(w.data(), w.data() + w.shape(0));
+        }
+        {
+          py::gil_scoped_release release;
+          relaxDisplacement(weldedRings(core), field, passes, mask);
+        }
+        return field;
+      },
+      "mesh"_a, "displacements"_a, "passes"_a, py::kw_only(), "where"_a = py::none(),
+      "A displacement field (N, 3) over an IndexedFaceSet's triangles smoothed `passes` times: "
+      "each vertex moved halfway to the mean of its one-ring's (vertices at the same position "
+      "welded), but a vertex on no triangle or one the (N,) bool array `where` leaves out. "
+      "Returns the new (N, 3) float64 array; cloning's relaxation does the same "
+      "(CloneRelaxation, docs/clone.md).");
 }
 
 }  // namespace mpeg4face::python

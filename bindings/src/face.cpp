@@ -334,16 +334,37 @@ void bindClone(py::module_& m) {
         return out;
       },
       "The feature points cloning needs (docs/clone.md), in table order.");
+  py::class_<CloneRelaxation>(
+      m, "CloneRelaxation",
+      "How clone_face relaxes the cloned motion over the target (docs/clone.md, \"Relaxing "
+      "the cloned motion\"); the defaults are those of `mpeg4face animate`.")
+      .def(py::init([](int fapPasses, int fringePasses, double fringeBelow,
+                       int attachedNeighbours, int attachedPasses) {
+             return CloneRelaxation{fapPasses, fringePasses, fringeBelow, attachedNeighbours,
+                                    attachedPasses};
+           }),
+           py::kw_only(), "fap_passes"_a = CloneRelaxation{}.fapPasses,
+           "fringe_passes"_a = CloneRelaxation{}.fringePasses,
+           "fringe_below"_a = CloneRelaxation{}.fringeBelow,
+           "attached_neighbours"_a = CloneRelaxation{}.attachedNeighbours,
+           "attached_passes"_a = CloneRelaxation{}.attachedPasses)
+      .def_readwrite("fap_passes", &CloneRelaxation::fapPasses)
+      .def_readwrite("fringe_passes", &CloneRelaxation::fringePasses)
+      .def_readwrite("fringe_below", &CloneRelaxation::fringeBelow)
+      .def_readwrite("attached_neighbours", &CloneRelaxation::attachedNeighbours)
+      .def_readwrite("attached_passes", &CloneRelaxation::attachedPasses);
   m.def(
       "clone_face",
       [](py::handle source, py::handle target, double filterSupport, bool adaptiveFilter,
-         bool rigidParts, std::function<void(std::string, double)> progress) {
+         bool rigidParts, std::optional<CloneRelaxation> relaxation,
+         std::function<void(std::string, double)> progress) {
         auto [sourceNeutral, copies] = cloneSource(source);
         const FaceModel targetNeutral = toCore(asFaceModel(target, "clone_face"));
         CloneOptions options;
         options.filterSupport = filterSupport;
         options.adaptiveFilter = adaptiveFilter;
         options.rigidParts = rigidParts;
+        options.relaxation = relaxation;
         if (progress) {
           options.progress = [&progress](std::string_view stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -361,14 +382,15 @@ void bindClone(py::module_& m) {
                         "warnings"_a = stringList(result.warnings));
       },
       "source"_a, "target"_a, "filter_support"_a = 0.02, "adaptive_filter"_a = true,
-      "rigid_parts"_a = true, "progress"_a = py::none(),
+      "rigid_parts"_a = true, "relaxation"_a = py::none(), "progress"_a = py::none(),
       "Facial Motion Cloning (Pandzic 2003; docs/clone.md): every FAP, viseme and expression "
       "shape of `source` (a FaceModel with shape keys in the grammar, or an MpegFace) onto the "
       "neutral FaceModel `target`; both need the clone_feature_points(). Returns a dict: face "
       "(the target as an MpegFace with its tables), copies (one dict per shape: name, fap, "
       "select, amplitude, meshes: one dict per target mesh that moves, with mesh, vertices "
       "(ascending) and displacement (len(vertices), 3), and transforms: the target's Transforms "
-      "with the rigid parts' motion) and warnings. "
+      "with the rigid parts' motion) and warnings. A CloneRelaxation relaxes the cloned "
+      "motion over the target (none: as the mapping carries it). "
       "progress(stage, fraction) is called as it goes.");
 }
 

@@ -117,6 +117,7 @@ int runAnimate(const std::vector<std::string>& args) {
   const CloneSource source = readCloneSource(sourcePath, std::nullopt, warnings);
   requireCloneFeaturePoints(source.neutral, sourcePath, "a source with feature points");
   CloneOptions options;
+  options.relaxation = CloneRelaxation{};
   ProgressPrinter printer("animate");
   options.progress = [&](std::string_view stage, double fraction) { printer(stage, fraction); };
   const ClonedFace cloned = cloneFace(source.neutral, source.copies, head, options);

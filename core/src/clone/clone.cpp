@@ -144,6 +144,14 @@ CloneResult cloneDeformedCopies(const FaceModel& sourceNeutral,
       }
     }
   }
+  if (options.relaxation) {
+    std::vector<int> surfaceMeshes;
+    for (std::size_t m = 0; m < targetSurface.firstRow.size(); ++m) {
+      if (targetSurface.firstRow[m] >= 0) surfaceMeshes.push_back(static_cast<int>(m));
+    }
+    clone::relaxClonedShapes(result.targetNeutral, surfaceMeshes, *options.relaxation,
+                             result.copies);
+  }
   if (options.progress) options.progress("copies", 1.0);
   return result;
 }

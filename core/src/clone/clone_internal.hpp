@@ -156,4 +156,9 @@ class ButterflyMidpoints {
   std::vector<std::pair<int, int>> edges_;  // (higher point, opposite corner)
 };
 
+// --- clone/relax.cpp: CloneRelaxation applied to the cloned shapes of `target`, whose
+// meshes `surfaceMeshes` carry vertex motion (the rigid parts' do not).
+void relaxClonedShapes(const FaceModel& target, const std::vector<int>& surfaceMeshes,
+                       const CloneRelaxation& relaxation, std::vector<FaceShape>& shapes);
+
 }  // namespace mpeg4face::clone

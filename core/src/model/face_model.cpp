@@ -2,6 +2,7 @@
 #include "mpeg4face/model/face_model.hpp"
 
 #include <functional>
+#include <numeric>
 
 #include "mpeg4face/error.hpp"
 
@@ -212,6 +213,30 @@ void FaceModel::validate() const {
                       meshes[fp.mesh].name + "'");
     }
   }
+}
+
+std::vector<int> connectedVertices(const IndexedFaceSet& mesh, int vertex) {
+  std::vector<int> parent(static_cast<std::size_t>(mesh.vertexCount()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v) {
+      v = parent[static_cast<std::size_t>(v)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    }
+    return v;
+  };
+  const std::vector<int> triangles = mesh.triangles();
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    for (std::size_t k = 1; k < 3; ++k) {
+      parent[static_cast<std::size_t>(root(triangles[t + k]))] = root(triangles[t]);
+    }
+  }
+  std::vector<int> piece;
+  const int r = root(vertex);
+  for (int v = 0; v < mesh.vertexCount(); ++v) {
+    if (root(v) == r) piece.push_back(v);
+  }
+  return piece;
 }
 
 }  // namespace mpeg4face

@@ -176,31 +176,6 @@ constexpr double kPartReach = 0.25;
 // How many of a template part's vertices vote for the head's mesh it lands on.
 constexpr std::size_t kPartVoters = 200;
 
-// The vertices joined to `vertex` by the mesh's triangles, ascending.
-std::vector<int> connectedPiece(const IndexedFaceSet& mesh, int vertex) {
-  std::vector<int> parent(static_cast<std::size_t>(mesh.vertexCount()));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto root = [&](int v) {
-    while (parent[static_cast<std::size_t>(v)] != v) {
-      v = parent[static_cast<std::size_t>(v)] =
-          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-    }
-    return v;
-  };
-  const std::vector<int> triangles = mesh.triangles();
-  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-    for (std::size_t k = 1; k < 3; ++k) {
-      parent[static_cast<std::size_t>(root(triangles[t + k]))] = root(triangles[t]);
-    }
-  }
-  std::vector<int> piece;
-  const int r = root(vertex);
-  for (int v = 0; v < mesh.vertexCount(); ++v) {
-    if (root(v) == r) piece.push_back(v);
-  }
-  return piece;
-}
-
 struct Pair {
   Vector3d from, to;
   double weight;
@@ -745,7 +720,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
       auto voted = partVotes.find(key);
       if (voted == partVotes.end()) {
         const Points3& coord = templateHead.meshes[static_cast<std::size_t>(binding.mesh)].coord;
-        const std::vector<int> piece = connectedPiece(
+        const std::vector<int> piece = connectedVertices(
             templateHead.meshes[static_cast<std::size_t>(binding.mesh)], binding.vertex);
         std::vector<int> votes(parts.size(), 0);
         const std::size_t step = std::max<std::size_t>(1, piece.size() / kPartVoters);

@@ -83,39 +83,64 @@ WeldedRings weldedRings(const IndexedFaceSet& mesh) {
   return weldedRings(mesh.coord, triangles);
 }
 
-SurfaceBump surfaceBump(const WeldedRings& rings, const Eigen::Ref<const Points3>& displacement) {
-  const std::size_t n = rings.weld.size(), welded = rings.copies.size();
-  if (static_cast<std::size_t>(displacement.rows()) != n) {
+namespace {
+
+void requireRows(const WeldedRings& rings, const Eigen::Ref<const Points3>& displacement) {
+  if (static_cast<std::size_t>(displacement.rows()) != rings.weld.size()) {
     throw Error({}, 0, "displacement",
                 "has " + std::to_string(displacement.rows()) + " rows, the mesh " +
-                    std::to_string(n) + " vertices");
+                    std::to_string(rings.weld.size()) + " vertices");
   }
-  SurfaceBump out;
-  out.motion = displacement.rowwise().norm();
-  // Per welded vertex: the mean displacement of its copies and their largest motion.
-  Points3 mean = Points3::Zero(static_cast<Eigen::Index>(welded), 3);
-  Eigen::VectorXd largest = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(welded));
+}
+
+// Per welded vertex: the mean displacement of its copies, and the mean of those over its
+// ring (0 for an empty ring).
+struct WeldedMeans {
+  Points3 own, ring;
+};
+
+WeldedMeans weldedMeans(const WeldedRings& rings, const Eigen::Ref<const Points3>& displacement) {
+  const std::size_t n = rings.weld.size(), welded = rings.copies.size();
+  WeldedMeans out{Points3::Zero(static_cast<Eigen::Index>(welded), 3),
+                  Points3::Zero(static_cast<Eigen::Index>(welded), 3)};
   for (std::size_t v = 0; v < n; ++v) {
-    const auto w = static_cast<Eigen::Index>(rings.weld[v]);
-    const auto i = static_cast<Eigen::Index>(v);
-    mean.row(w) += displacement.row(i);
-    largest[w] = std::max(largest[w], out.motion[i]);
+    out.own.row(rings.weld[v]) += displacement.row(static_cast<Eigen::Index>(v));
   }
   for (std::size_t w = 0; w < welded; ++w) {
-    mean.row(static_cast<Eigen::Index>(w)) /= rings.copies[w];
+    out.own.row(static_cast<Eigen::Index>(w)) /= rings.copies[w];
   }
-  // Per welded vertex: the mean of its ring's displacements and the ring's largest motion.
-  Points3 ringMean = Points3::Zero(static_cast<Eigen::Index>(welded), 3);
-  Eigen::VectorXd ringLargest = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(welded));
   for (std::size_t w = 0; w < welded; ++w) {
     const int begin = rings.offset[w], end = rings.offset[w + 1];
     const auto row = static_cast<Eigen::Index>(w);
     for (int k = begin; k < end; ++k) {
-      const auto j = static_cast<Eigen::Index>(rings.neighbour[static_cast<std::size_t>(k)]);
-      ringMean.row(row) += mean.row(j);
-      ringLargest[row] = std::max(ringLargest[row], largest[j]);
+      out.ring.row(row) += out.own.row(rings.neighbour[static_cast<std::size_t>(k)]);
     }
-    if (end > begin) ringMean.row(row) /= end - begin;
+    if (end > begin) out.ring.row(row) /= end - begin;
+  }
+  return out;
+}
+
+}  // namespace
+
+SurfaceBump surfaceBump(const WeldedRings& rings, const Eigen::Ref<const Points3>& displacement) {
+  requireRows(rings, displacement);
+  const std::size_t n = rings.weld.size(), welded = rings.copies.size();
+  SurfaceBump out;
+  out.motion = displacement.rowwise().norm();
+  const WeldedMeans means = weldedMeans(rings, displacement);
+  // Per welded vertex: the largest motion of its copies, then of its ring.
+  Eigen::VectorXd largest = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(welded));
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto w = static_cast<Eigen::Index>(rings.weld[v]);
+    largest[w] = std::max(largest[w], out.motion[static_cast<Eigen::Index>(v)]);
+  }
+  Eigen::VectorXd ringLargest = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(welded));
+  for (std::size_t w = 0; w < welded; ++w) {
+    for (int k = rings.offset[w]; k < rings.offset[w + 1]; ++k) {
+      const auto row = static_cast<Eigen::Index>(w);
+      ringLargest[row] =
+          std::max(ringLargest[row], largest[rings.neighbour[static_cast<std::size_t>(k)]]);
+    }
   }
   out.bump.resize(static_cast<Eigen::Index>(n));
   out.localMotion.resize(static_cast<Eigen::Index>(n));
@@ -128,11 +153,31 @@ SurfaceBump surfaceBump(const WeldedRings& rings, const Eigen::Ref<const Points3
       out.localMotion[i] = out.motion[i];
       continue;
     }
-    out.bump[i] = (displacement.row(i) - ringMean.row(row)).norm();
+    out.bump[i] = (displacement.row(i) - means.ring.row(row)).norm();
     out.localMotion[i] = std::max(out.motion[i], ringLargest[row]);
     out.peak = std::max(out.peak, out.motion[i]);
   }
   return out;
+}
+
+void relaxDisplacement(const WeldedRings& rings, Points3& displacement, int passes,
+                       const std::vector<bool>& where) {
+  requireRows(rings, displacement);
+  if (!where.empty() && where.size() != rings.weld.size()) {
+    throw Error({}, 0, "where",
+                "has " + std::to_string(where.size()) + " entries, the mesh " +
+                    std::to_string(rings.weld.size()) + " vertices");
+  }
+  for (int pass = 0; pass < passes; ++pass) {
+    const Points3 ring = weldedMeans(rings, displacement).ring;
+    for (std::size_t v = 0; v < rings.weld.size(); ++v) {
+      const auto w = static_cast<std::size_t>(rings.weld[v]);
+      if (rings.offset[w] == rings.offset[w + 1] || (!where.empty() && !where[v])) continue;
+      const auto i = static_cast<Eigen::Index>(v);
+      displacement.row(i) =
+          0.5 * displacement.row(i) + 0.5 * ring.row(static_cast<Eigen::Index>(w));
+    }
+  }
 }
 
 SurfaceSpikes surfaceSpikes(const SurfaceBump& bump, double peak, double bumpOfPeak,

@@ -148,6 +148,39 @@ TEST(SurfaceBump, ASeamSplitGivesTheAnswersOfTheWholeGrid) {
   EXPECT_NEAR(ss.localRatioMax, s.localRatioMax, 1e-12);
 }
 
+TEST(SurfaceBump, RelaxingFlattensTheSpikeAndKeepsTheSmoothField) {
+  const IndexedFaceSet mesh = grid(false);
+  const WeldedRings rings = weldedRings(mesh);
+  Points3 d = gaussian(mesh);
+  const int pushed = at(10, 25);
+  d(pushed, 2) += 0.5;
+  Points3 relaxed = d;
+  relaxDisplacement(rings, relaxed, 4);
+  EXPECT_TRUE(surfaceSpikes(surfaceBump(rings, relaxed), 0.05, 0.75).vertices.empty());
+  // The spike spreads over its rings; the Gaussian's peak (6 edges per sigma) drops 3.6%.
+  EXPECT_LT(relaxed(pushed, 2) - gaussian(mesh)(pushed, 2), 0.1);
+  EXPECT_NEAR(relaxed(at(24, 20), 2), 1.0, 0.04);
+
+  // One pass by hand: halfway to the mean of the ring (6 neighbours inside the grid).
+  Points3 once = d;
+  relaxDisplacement(rings, once, 1);
+  double ring = 0;
+  for (const auto& [i, j] : {std::pair{9, 25}, {11, 25}, {10, 24}, {10, 26}, {9, 24}, {11, 26}}) {
+    ring += d(at(i, j), 2) / 6;
+  }
+  EXPECT_NEAR(once(pushed, 2), 0.5 * d(pushed, 2) + 0.5 * ring, 1e-12);
+
+  // `where` leaves the vertices it excludes as they were.
+  std::vector<bool> where(static_cast<std::size_t>(mesh.vertexCount()), true);
+  where[static_cast<std::size_t>(pushed)] = false;
+  Points3 kept = d;
+  relaxDisplacement(rings, kept, 2, where);
+  EXPECT_EQ(kept(pushed, 2), d(pushed, 2));
+  EXPECT_NE(kept(at(11, 25), 2), d(at(11, 25), 2));
+  Points3 wrong = d;
+  EXPECT_THROW(relaxDisplacement(rings, wrong, 1, std::vector<bool>(3, true)), Error);
+}
+
 TEST(SurfaceBump, BadInput) {
   const IndexedFaceSet mesh = grid(false);
   const std::vector<int> triangles = {0, 1, kSide * kSide};

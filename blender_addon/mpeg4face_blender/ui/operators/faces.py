@@ -504,7 +504,8 @@ class MPEG4FACE_OT_make_animatable(TemplateHead, bpy.types.Operator):
             target, _ = mesh_data.read_face_model(obj)
             try:
                 cloned = mpeg4face.clone_face(
-                    template, target, progress=lambda _stage, fraction: update(1 + fraction))
+                    template, target, relaxation=mpeg4face.CloneRelaxation(),
+                    progress=lambda _stage, fraction: update(1 + fraction))
             except mpeg4face.Error as error:
                 self.report({"ERROR"}, f"{obj.name}: {error}")
                 return False

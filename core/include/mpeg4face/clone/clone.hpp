@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -18,6 +19,28 @@
 #include "mpeg4face/model/fapu.hpp"
 
 namespace mpeg4face {
+
+// The cloned motion relaxed over the target (ours, docs/clone.md "Relaxing the cloned
+// motion"). Where the target's surface meets the source's differently (its lids, mouth bag
+// and nostrils landing on other parts of the source's), a cloned shape bends sharply where the
+// source's is smooth and the region a shape moves ends in a step: on the MakeHuman head a plain
+// clone of the ICT sample spikes 182 of the demo sentence's 190 frames. Defaults: those
+// `mpeg4face animate` uses.
+struct CloneRelaxation {
+  // Passes of umbrella smoothing (relaxDisplacement) of each FAP shape's motion over the
+  // face mesh (landmarkFaceMesh).
+  int fapPasses = 4;
+  // Passes over each viseme and expression shape's fringe only: the face vertices it moves
+  // at most `fringeBelow` of its largest motion, still ones included (made of whole ARKit-like
+  // shapes, smoothed all over their open mouths would open less).
+  int fringePasses = 2;
+  double fringeBelow = 0.2;
+  // Each vertex of the surface's other meshes (eyelashes, brows: strips standing out of the
+  // skin, which the source has no surface for) moves as the mean of this many face vertices
+  // nearest to it (0: as cloned), then is smoothed along its own mesh in `attachedPasses`.
+  int attachedNeighbours = 16;
+  int attachedPasses = 4;
+};
 
 struct CloneOptions {
   // Support of the antialiasing (low-pass) filter in alignment-space units (the paper's
@@ -43,6 +66,8 @@ struct CloneOptions {
   double outsideFalloff = 0.5;
   // Map eyes, teeth, tongue and global head motion as transforms (clone/rigid.hpp).
   bool rigidParts = true;
+  // Relax the cloned motion over the target (none: as the mapping carries it).
+  std::optional<CloneRelaxation> relaxation;
   // Called with a stage name and the fraction done (0..1) of the whole job; may be empty.
   std::function<void(std::string_view stage, double fraction)> progress;
 };

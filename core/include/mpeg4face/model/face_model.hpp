@@ -117,4 +117,8 @@ struct FaceModel {
 // animations (the neutral face that deformed copies and tables start from).
 FaceModel neutralFaceModel(const FaceModel& model);
 
+// The vertices of `mesh` joined to `vertex` by its triangles (its connected piece: a tooth
+// row, a tongue), ascending.
+std::vector<int> connectedVertices(const IndexedFaceSet& mesh, int vertex);
+
 }  // namespace mpeg4face

@@ -49,6 +49,14 @@ struct SurfaceBump {
 // Throws Error when `displacement` has not one row per vertex of `rings`.
 SurfaceBump surfaceBump(const WeldedRings& rings, const Eigen::Ref<const Points3>& displacement);
 
+// Umbrella smoothing: `passes` times, each vertex's displacement moved halfway to the mean of
+// its ring's (welded: seam copies move alike); a vertex with an empty ring, or one `where`
+// excludes (when given: one entry per vertex), keeps its own. It flattens a field's bumps;
+// cloning relaxes what it carries with it (CloneRelaxation). Throws Error when `displacement`
+// or `where` does not have one row per vertex of `rings`.
+void relaxDisplacement(const WeldedRings& rings, Points3& displacement, int passes,
+                       const std::vector<bool>& where = {});
+
 // The spikes of a field, and two figures of how bumpy it is, relative to `peak`: the field's
 // own (bump.peak), or the motion of a whole pose the field is part of (a mesh's bumps against
 // the face's motion). Vertices with an empty ring are left out; peak 0 finds none.
