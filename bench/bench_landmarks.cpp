@@ -64,8 +64,10 @@ int main(int argc, char** argv) {
       FaceModel target = *head;
       for (const auto& [id, p] : found.points) target.featurePoints[id] = p.binding;
       ClonedFace cloned;
-      const double clone =
-          medianSeconds(3, [&] { cloned = cloneFace(sourceNeutral, source.copies, target); });
+      CloneOptions options;  // as animate clones: relaxed
+      options.relaxation = CloneRelaxation{};
+      const double clone = medianSeconds(
+          3, [&] { cloned = cloneFace(sourceNeutral, source.copies, target, options); });
       const double check = medianSeconds(3, [&] { checkMotion(cloned.face, sentence); });
       const double animate = find + clone + check;
       if (head == &small) {
