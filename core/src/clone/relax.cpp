@@ -42,37 +42,36 @@ void setDisplacement(FaceShape& shape, int m, const Points3& dense) {
   shape.meshes.insert(at, std::move(d));
 }
 
-// An attached mesh: per vertex, the `k` face vertices nearest to it in model space.
+// An attached mesh: per vertex, the `k` face vertices nearest to it in model space, and the
+// linear map from the face's frame to the mesh's own.
 struct Attachment {
   int mesh = -1;
+  std::size_t k = 0;
   std::vector<int> nearest;  // k per vertex
   WeldedRings rings;
+  Eigen::Matrix3d fromFace;
 };
 
+// `faceAt`: the face mesh's vertices in model space.
 Attachment attach(const FaceModel& target, const std::vector<Eigen::Affine3d>& world, int face,
-                  int mesh, int k) {
-  const Points3& faceCoord = target.meshes[static_cast<std::size_t>(face)].coord;
-  const Points3& coord = target.meshes[static_cast<std::size_t>(mesh)].coord;
-  Points3 faceAt(faceCoord.rows(), 3);
-  for (Eigen::Index v = 0; v < faceCoord.rows(); ++v) {
-    faceAt.row(v) = (world[static_cast<std::size_t>(face)] * faceCoord.row(v).transpose())
-                        .transpose();
-  }
+                  const Points3& faceAt, int mesh, int k) {
+  const auto m = static_cast<std::size_t>(mesh);
+  const Points3& coord = target.meshes[m].coord;
   Attachment out;
   out.mesh = mesh;
-  out.rings = weldedRings(target.meshes[static_cast<std::size_t>(mesh)]);
-  const auto count = static_cast<std::size_t>(std::min<Eigen::Index>(k, faceAt.rows()));
+  out.k = static_cast<std::size_t>(std::min<Eigen::Index>(k, faceAt.rows()));
+  out.rings = weldedRings(target.meshes[m]);
+  out.fromFace = world[m].linear().inverse() * world[static_cast<std::size_t>(face)].linear();
   std::vector<std::pair<double, int>> near(static_cast<std::size_t>(faceAt.rows()));
   for (Eigen::Index v = 0; v < coord.rows(); ++v) {
-    const Eigen::RowVector3d p =
-        (world[static_cast<std::size_t>(mesh)] * coord.row(v).transpose()).transpose();
+    const Eigen::RowVector3d p = (world[m] * coord.row(v).transpose()).transpose();
     for (Eigen::Index f = 0; f < faceAt.rows(); ++f) {
       near[static_cast<std::size_t>(f)] = {(faceAt.row(f) - p).squaredNorm(),
                                            static_cast<int>(f)};
     }
-    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(count),
+    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(out.k),
                       near.end());
-    for (std::size_t j = 0; j < count; ++j) out.nearest.push_back(near[j].second);
+    for (std::size_t j = 0; j < out.k; ++j) out.nearest.push_back(near[j].second);
   }
   return out;
 }
@@ -91,9 +90,14 @@ void relaxClonedShapes(const FaceModel& target, const std::vector<int>& surfaceM
   const std::vector<Eigen::Affine3d> world = target.meshWorldMatrices();
   std::vector<Attachment> attached;
   if (relaxation.attachedNeighbours > 0) {
+    Points3 faceAt(faceMesh.coord.rows(), 3);
+    for (Eigen::Index v = 0; v < faceAt.rows(); ++v) {
+      faceAt.row(v) =
+          (world[static_cast<std::size_t>(face)] * faceMesh.coord.row(v).transpose()).transpose();
+    }
     for (int m : surfaceMeshes) {
       if (m == face || target.meshes[static_cast<std::size_t>(m)].vertexCount() == 0) continue;
-      attached.push_back(attach(target, world, face, m, relaxation.attachedNeighbours));
+      attached.push_back(attach(target, world, face, faceAt, m, relaxation.attachedNeighbours));
     }
   }
   for (FaceShape& shape : shapes) {
@@ -111,17 +115,14 @@ void relaxClonedShapes(const FaceModel& target, const std::vector<int>& surfaceM
     }
     setDisplacement(shape, face, d);
     for (const Attachment& a : attached) {
-      // Face motion to model space, averaged, then into the attached mesh's own frame.
-      const Eigen::Matrix3d toModel = world[static_cast<std::size_t>(face)].linear();
-      const Eigen::Matrix3d toLocal = world[static_cast<std::size_t>(a.mesh)].linear().inverse();
+      // The mean face motion around each vertex, in the attached mesh's own frame.
       const std::size_t count = a.rings.weld.size();
-      const std::size_t per = count ? a.nearest.size() / count : 0;
       Points3 follow = Points3::Zero(static_cast<Eigen::Index>(count), 3);
-      for (std::size_t v = 0; v < count && per; ++v) {
+      for (std::size_t v = 0; v < count && a.k; ++v) {
         Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        for (std::size_t j = 0; j < per; ++j) sum += d.row(a.nearest[v * per + j]).transpose();
+        for (std::size_t j = 0; j < a.k; ++j) sum += d.row(a.nearest[v * a.k + j]).transpose();
         follow.row(static_cast<Eigen::Index>(v)) =
-            (toLocal * toModel * sum / static_cast<double>(per)).transpose();
+            (a.fromFace * sum / static_cast<double>(a.k)).transpose();
       }
       relaxDisplacement(a.rings, follow, relaxation.attachedPasses);
       setDisplacement(shape, a.mesh, follow);

@@ -106,6 +106,10 @@ tinygltf::Value::Object fatExtras(const MpegFace& face, const FapuMeasurement& f
   return extras;
 }
 
+bool holdsTables(const gltf_internal::ReadResult& file) {
+  return file.extras.IsObject() && file.extras.Has("faceDefTables");
+}
+
 // Reads the extras written by fatExtras, checking every value it uses.
 class ExtrasReader {
  public:
@@ -116,7 +120,7 @@ class ExtrasReader {
     const std::string base =
         file_.extrasField.empty() ? "scenes[0].extras.mpeg4face" : file_.extrasField;
     const tinygltf::Value& ours = file_.extras;
-    if (!ours.IsObject() || !ours.Has("faceDefTables")) {
+    if (!holdsTables(file_)) {
       fail(base + ".faceDefTables",
            "the file has no Face Animation Tables (it was not written by writeFatGltf)");
     }
@@ -550,7 +554,7 @@ FatGltf readFatGltf(const std::filesystem::path& path) {
 
 std::optional<FatGltf> readFatGltfIfAny(const std::filesystem::path& path) {
   gltf_internal::ReadResult file = gltf_internal::readGltf(path);
-  if (!file.extras.IsObject() || !file.extras.Has("faceDefTables")) return std::nullopt;
+  if (!holdsTables(file)) return std::nullopt;
   return ExtrasReader(file, path.string()).read();
 }
 

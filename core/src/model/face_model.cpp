@@ -215,7 +215,7 @@ void FaceModel::validate() const {
   }
 }
 
-std::vector<int> connectedVertices(const IndexedFaceSet& mesh, int vertex) {
+std::vector<int> connectedPieces(const IndexedFaceSet& mesh) {
   std::vector<int> parent(static_cast<std::size_t>(mesh.vertexCount()));
   std::iota(parent.begin(), parent.end(), 0);
   const auto root = [&](int v) {
@@ -231,12 +231,8 @@ std::vector<int> connectedVertices(const IndexedFaceSet& mesh, int vertex) {
       parent[static_cast<std::size_t>(root(triangles[t + k]))] = root(triangles[t]);
     }
   }
-  std::vector<int> piece;
-  const int r = root(vertex);
-  for (int v = 0; v < mesh.vertexCount(); ++v) {
-    if (root(v) == r) piece.push_back(v);
-  }
-  return piece;
+  for (int v = 0; v < mesh.vertexCount(); ++v) parent[static_cast<std::size_t>(v)] = root(v);
+  return parent;
 }
 
 }  // namespace mpeg4face

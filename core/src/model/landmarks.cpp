@@ -691,7 +691,9 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
     if (static_cast<int>(m) == faceMesh || target.meshes[m].triangles().empty()) continue;
     parts.push_back(surfaceOf(target, targetWorld, static_cast<int>(m)));
   }
-  std::map<std::pair<int, int>, int> partVotes;  // template (mesh, vertex) -> parts index
+  // Per template mesh its connectedPieces (when needed); (mesh, piece) -> parts index, or -1.
+  std::vector<std::vector<int>> templatePieces(templateHead.meshes.size());
+  std::map<std::pair<int, int>, int> partVotes;
   for (const auto& [id, binding] : templateHead.featurePoints) {
     const std::optional<Vector3d> at = templateHead.featurePointPosition(id);
     if (!at) continue;
@@ -716,17 +718,23 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
       // upper and lower teeth meet in a closed mouth, so the mesh nearest the point alone
       // put a lower tooth's point on the upper row and the tongue tip on the lower teeth.
       const Surface* on = nullptr;
-      const auto key = std::pair{binding.mesh, binding.vertex};
+      const auto mesh = static_cast<std::size_t>(binding.mesh);
+      if (templatePieces[mesh].empty()) {
+        templatePieces[mesh] = connectedPieces(templateHead.meshes[mesh]);
+      }
+      const int label = templatePieces[mesh][static_cast<std::size_t>(binding.vertex)];
+      const auto key = std::pair{binding.mesh, label};
       auto voted = partVotes.find(key);
       if (voted == partVotes.end()) {
-        const Points3& coord = templateHead.meshes[static_cast<std::size_t>(binding.mesh)].coord;
-        const std::vector<int> piece = connectedVertices(
-            templateHead.meshes[static_cast<std::size_t>(binding.mesh)], binding.vertex);
+        const Points3& coord = templateHead.meshes[mesh].coord;
+        std::vector<int> piece;
+        for (std::size_t v = 0; v < templatePieces[mesh].size(); ++v) {
+          if (templatePieces[mesh][v] == label) piece.push_back(static_cast<int>(v));
+        }
         std::vector<int> votes(parts.size(), 0);
         const std::size_t step = std::max<std::size_t>(1, piece.size() / kPartVoters);
         for (std::size_t i = 0; i < piece.size(); i += step) {
-          const Vector3d q = carry(templateWorld[static_cast<std::size_t>(binding.mesh)] *
-                                   Vector3d(coord.row(piece[i]).transpose()));
+          const Vector3d q = carry(templateWorld[mesh] * Vector3d(coord.row(piece[i]).transpose()));
           double nearest = std::numeric_limits<double>::infinity();
           std::size_t closest = parts.size();
           for (std::size_t k = 0; k < parts.size(); ++k) {

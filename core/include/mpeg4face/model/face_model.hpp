@@ -117,8 +117,8 @@ struct FaceModel {
 // animations (the neutral face that deformed copies and tables start from).
 FaceModel neutralFaceModel(const FaceModel& model);
 
-// The vertices of `mesh` joined to `vertex` by its triangles (its connected piece: a tooth
-// row, a tongue), ascending.
-std::vector<int> connectedVertices(const IndexedFaceSet& mesh, int vertex);
+// Per vertex of `mesh`, its connected piece (a tooth row, a tongue: the vertices its
+// triangles join): one vertex of the piece, the same for all of them.
+std::vector<int> connectedPieces(const IndexedFaceSet& mesh);
 
 }  // namespace mpeg4face
