@@ -287,17 +287,16 @@ def clone_source(ict: mpeg4face.FaceModel) -> mpeg4face.FaceModel:
 
 
 def cloned_keys(source: mpeg4face.FaceModel, head: mpeg4face.FaceModel) -> Keys:
-    cloned = mpeg4face.clone_face(source, head)
+    """The source's FAP, viseme and expression shapes cloned onto the head and relaxed as
+    `animate` relaxes them (docs/clone.md): the FAP shapes smoothed over the skin, the visemes'
+    and expressions' fringe feathered, the eyelashes following the skin nearest them. The
+    lashes are smoothed along themselves at the end (smooth_lashes), with MakeHuman's units."""
+    cloned = mpeg4face.clone_face(source, head, relaxation=mpeg4face.CloneRelaxation(
+        fap_passes=CLONE_SMOOTHING_PASSES, attached_passes=0))
     for warning in cloned["warnings"]:
         print(f"clone: {warning}", file=sys.stderr)
-    keys = {c["name"]: every_vertex(head, c) for c in cloned["copies"]
+    return {c["name"]: every_vertex(head, c) for c in cloned["copies"]
             if c["fap"] not in EYEBALL_FAPS}
-    low_level = {n: d for n, d in keys.items() if mpeg4face.parse_shape_key_name(n)["fap"] > 2}
-    smooth_over(head, "skin", low_level, CLONE_SMOOTHING_PASSES)
-    feather_over(head, "skin", {n: d for n, d in keys.items() if n not in low_level},
-                 CLONE_FEATHER_PASSES)
-    lashes_follow_skin(head, keys)
-    return keys
 
 
 def every_vertex(head: mpeg4face.FaceModel, shape: dict) -> list[np.ndarray]:
@@ -309,70 +308,33 @@ def every_vertex(head: mpeg4face.FaceModel, shape: dict) -> list[np.ndarray]:
     return out
 
 
-# Passes of umbrella smoothing over the skin given to every cloned low-level key. MakeHuman's
+# Passes of umbrella smoothing over the skin given to every cloned FAP key. MakeHuman's
 # surface meets the ICT head's where their shapes differ (its lower lid and outer eye corner
 # land on different parts of the source's lids, its mouth bag and nostrils end the cloned
 # region in a step), so a cloned key bends sharply where the source's is smooth: the lifted
-# cheeks of joy.fap folded the lower lid over the outer eye corner (16 frames), and the
-# capture's playback had spike vertices in every frame (23 in the mouth bag and nostrils; none
-# with 2 passes, docs/samples.md). The viseme and expression keys, made of ARKit shapes and
-# not refitted, need none: smoothed, their open mouths opened less.
-CLONE_SMOOTHING_PASSES = 2
+# cheeks of joy.fap folded the lower lid over the outer eye corner, the capture's playback had
+# spike vertices in every frame, and with 2 passes 24 of the 1091 frames of the sample streams
+# still did (in the nostrils and under the chin); with `animate`'s 4, none
+# (docs/motion-check.md). The viseme and expression keys are only feathered at their fringe:
+# smoothed, their open mouths opened less.
+CLONE_SMOOTHING_PASSES = 4
 
 
-# Passes of the same smoothing given to the viseme and expression keys' fringe only, the skin
-# each moves at most CLONE_FEATHER_BELOW of its largest motion: a key's cloned region ends in
-# a step. Under the chin a vertex stood still in every viseme and expression while its
-# neighbours moved 63% of the key's largest motion on average, and a strip along the neck's
-# cut edge moved while the skin above it stood still: spike vertices in 206 of the 1091 frames
-# of the sample streams; feathered, 24 (in the nostrils and under the chin, made by the FAP
-# keys; docs/motion-check.md). The skin that moves more keeps its motion: the mouths open as
-# far.
-CLONE_FEATHER_PASSES = 2
-CLONE_FEATHER_BELOW = 0.2
-
-
-def feather_over(head: mpeg4face.FaceModel, mesh: str, keys: Keys, passes: int) -> None:
-    """Each key's fringe of `mesh` relaxed: the cloned region's edge feathered."""
-    m = head.find_mesh(mesh)
-    edges = mesh_edges(head.meshes[m])
-    for d in keys.values():
-        d[m] = relaxed_fringe(edges, d[m], passes, CLONE_FEATHER_BELOW, still=True)
-
-
-def smooth_over(head: mpeg4face.FaceModel, mesh: str, keys: Keys, passes: int) -> None:
-    """Each key's motion of `mesh`, each vertex moved halfway to its neighbours' mean
-    `passes` times (once per motion: a unit and its held copy share theirs)."""
-    m = head.find_mesh(mesh)
-    edges = mesh_edges(head.meshes[m])
-    for displacements in {id(d): d for d in keys.values()}.values():
-        displacements[m] = relaxed(edges, displacements[m], passes)
-
-
-# Each eyelash vertex moves as the mean of this many skin vertices nearest to it: with 4, a
-# lifted cheek that moves the lower lid's skin unevenly (its FAP keys shared among siblings by
-# 1/d^2, issue 41) stretched the lower lashes' edges past twice their length in joy.fap; 16
-# (about two rings of the lid's skin) keeps a strip's edges within 1.5 times.
-LASH_NEIGHBOURS = 16
-# Every key's lashes (cloned or MakeHuman's own units) are then smoothed along the lashes in
-# this many passes: MakeHuman's lid units move a strip's inner corner less than its
-# neighbours (0.9 mm against 1.9 mm), and so does the skin of the eye's corner a cloned
-# lash follows: the capture's blinks made spike vertices of both strips' inner corners;
-# with 4 passes none.
+# Every key's lashes (cloned or MakeHuman's own units) are smoothed along the lashes in this
+# many passes: MakeHuman's lid units move a strip's inner corner less than its neighbours
+# (0.9 mm against 1.9 mm), and so does the skin of the eye's corner a cloned lash follows:
+# the capture's blinks made spike vertices of both strips' inner corners; with 4 passes none.
 LASH_SMOOTHING_PASSES = 4
 
 
-def lashes_follow_skin(head: mpeg4face.FaceModel, keys: Keys) -> None:
-    """MakeHuman's eyelashes are strips standing out of the lid margins, a surface the source
-    face does not have: cloned, a strip's root and tip land on different parts of the
-    source's lids and the strip tears (a lifted cheek tore the lower lashes). So each lash
-    vertex takes the cloned motion of the skin nearest to it."""
-    skin, lashes = head.find_mesh("skin"), head.find_mesh("eyelashes")
-    at = head.meshes[lashes].coord
-    distances = np.linalg.norm(at[:, None, :] - head.meshes[skin].coord[None, :, :], axis=2)
-    nearest = np.argsort(distances, axis=1)[:, :LASH_NEIGHBOURS]
-    for displacements in keys.values():
-        displacements[lashes] = displacements[skin][nearest].mean(axis=1)
+def smooth_lashes(head: mpeg4face.FaceModel, keys: Keys) -> None:
+    """Each key's motion of the eyelashes relaxed along them (once per motion: a unit and its
+    held copy share theirs)."""
+    m = head.find_mesh("eyelashes")
+    lashes = head.meshes[m]
+    for displacements in {id(d): d for d in keys.values()}.values():
+        displacements[m] = mpeg4face.relax_displacement(lashes, displacements[m],
+                                                        LASH_SMOOTHING_PASSES)
 
 
 # MakeHuman's upper-lid units unfold the lid's crease on a few rows of small edges: closing,
@@ -386,45 +348,13 @@ LID_SPREAD_BELOW = 0.5
 LID_SPREAD_PASSES = 2
 
 
-def mesh_edges(mesh: mpeg4face.IndexedFaceSet) -> np.ndarray:
-    """The mesh's edges (of its triangles), each once: (E, 2) vertex indices."""
-    triangles = np.asarray(mesh.triangles()).reshape(-1, 3)
-    return np.unique(np.sort(np.concatenate(
-        [triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1), axis=0)
-
-
-def neighbour_mean(edges: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """Per vertex, the mean of its neighbours' rows of `d` along `edges` (0 where it has none)."""
-    degree = np.maximum(np.bincount(edges.ravel(), minlength=len(d)), 1)[:, None]
-    total = np.zeros_like(d)
-    np.add.at(total, edges[:, 0], d[edges[:, 1]])
-    np.add.at(total, edges[:, 1], d[edges[:, 0]])
-    return total / degree
-
-
-def relaxed(edges: np.ndarray, d: np.ndarray, passes: int,
-            where: np.ndarray | bool = True) -> np.ndarray:
-    """`d` with each vertex (of those `where` holds) moved halfway to its neighbours' mean,
-    `passes` times."""
-    for _ in range(passes):
-        d = np.where(where, 0.5 * d + 0.5 * neighbour_mean(edges, d), d)
-    return d
-
-
-def relaxed_fringe(edges: np.ndarray, d: np.ndarray, passes: int, below: float,
-                   still: bool) -> np.ndarray:
-    """`d` relaxed over the vertices it moves at most `below` of its largest motion (the
-    still ones too if `still`)."""
-    size = np.linalg.norm(d, axis=1)
-    fringe = (size <= below * size.max()) & (still | (size > 0))
-    return relaxed(edges, d, passes, fringe[:, None])
-
-
 def spread_lid_crease(head: mpeg4face.FaceModel, displacements: list[np.ndarray]) -> None:
     skin = head.find_mesh("skin")
-    edges = mesh_edges(head.meshes[skin])
-    displacements[skin] = relaxed_fringe(edges, displacements[skin], LID_SPREAD_PASSES,
-                                         LID_SPREAD_BELOW, still=False)
+    d = displacements[skin]
+    size = np.linalg.norm(d, axis=1)
+    moving_less = (size > 0) & (size <= LID_SPREAD_BELOW * size.max())
+    displacements[skin] = mpeg4face.relax_displacement(head.meshes[skin], d, LID_SPREAD_PASSES,
+                                                       where=moving_less)
 
 
 def replace_with_units(keys: Keys, units: dict[str, list[np.ndarray]],
@@ -537,7 +467,7 @@ def main(argv: list[str] | None = None) -> int:
     keys = cloned_keys(clone_source(ict), head)
     replace_with_units(keys, units, mappings)
     hold_units(keys, units, mappings)
-    smooth_over(head, "eyelashes", keys, LASH_SMOOTHING_PASSES)
+    smooth_lashes(head, keys)
     head = with_keys(head, keys, poses(head, keys))
     mpeg4face.write_gltf(head, args.out / "makehuman_head.glb")
     mpeg4face.write_file_atomically(args.out / "makehuman_units.json", (

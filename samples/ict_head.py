@@ -147,20 +147,29 @@ def read_ict() -> tuple[np.ndarray, list[np.ndarray], list[int], dict[str, np.nd
 # vertices beside the tongue by 0.017 and 0.004 cm, most move dozens of vertices by float
 # rounding (1e-5 cm). That is no motion, but every FAP key made of those shapes carries it:
 # the tongue's sliver triangles there turned over in 734 of the sample streams' 1091 frames
-# and the vertex stood out as a spike in 180 (docs/samples.md). Such offsets are dropped.
+# and the vertex stood out as a spike in 180 (docs/samples.md). Such offsets are dropped. A
+# neighbour moving less than STILL_BELOW (0.01 mm, rounding) counts as still: the blinks and
+# mouthLeft/Right move one more gum vertex by 0.02 cm among neighbours moved 1e-5 cm, and it
+# turned a sliver of the tongue over in 11 frames.
 ISOLATED_BELOW = 0.05  # cm
+STILL_BELOW = 1e-3  # cm
 
 
 def drop_isolated_offsets(faces: list[np.ndarray], expressions: dict[str, np.ndarray]) -> None:
     """Each expression's vertices that move less than ISOLATED_BELOW while every neighbour
-    stays still, left still."""
+    stays still (moves less than STILL_BELOW), left still; again until none is left (a vertex
+    beside a dropped one may be left alone by the drop)."""
     edges = np.concatenate([np.c_[f, np.roll(f, -1)] for f in faces])
     for d in expressions.values():
-        size = np.linalg.norm(d, axis=1)
-        ring = np.zeros(len(d))
-        np.maximum.at(ring, edges[:, 0], size[edges[:, 1]])
-        np.maximum.at(ring, edges[:, 1], size[edges[:, 0]])
-        d[(size < ISOLATED_BELOW) & (ring == 0)] = 0
+        while True:
+            size = np.linalg.norm(d, axis=1)
+            ring = np.zeros(len(d))
+            np.maximum.at(ring, edges[:, 0], size[edges[:, 1]])
+            np.maximum.at(ring, edges[:, 1], size[edges[:, 0]])
+            alone = (size > 0) & (size < ISOLATED_BELOW) & (ring < STILL_BELOW)
+            if not alone.any():
+                break
+            d[alone] = 0
 
 
 def part_faces(faces: list[np.ndarray], name: str) -> list[np.ndarray]:

@@ -162,9 +162,25 @@ def test_a_mapped_key_is_the_makehuman_unit_itself(head):
         np.testing.assert_allclose(delta, expected, atol=1e-6)
 
 
+def mesh_edges(mesh: mpeg4face.IndexedFaceSet) -> np.ndarray:
+    """The mesh's edges (of its triangles), each once: (E, 2) vertex indices."""
+    triangles = np.asarray(mesh.triangles()).reshape(-1, 3)
+    return np.unique(np.sort(np.concatenate(
+        [triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]), axis=1), axis=0)
+
+
+def neighbour_mean(edges: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Per vertex, the mean of its neighbours' rows of `d` along `edges` (0 where it has none)."""
+    degree = np.maximum(np.bincount(edges.ravel(), minlength=len(d)), 1)[:, None]
+    total = np.zeros_like(d)
+    np.add.at(total, edges[:, 0], d[edges[:, 1]])
+    np.add.at(total, edges[:, 1], d[edges[:, 0]])
+    return total / degree
+
+
 def stretched_edges(mesh: mpeg4face.IndexedFaceSet, displacement: np.ndarray) -> int:
     """The mesh's edges more than twice or less than half their length when displaced."""
-    edges = build_samples.mesh_edges(mesh)
+    edges = mesh_edges(mesh)
     at = np.asarray(mesh.coord)
     before = np.linalg.norm(at[edges[:, 0]] - at[edges[:, 1]], axis=1)
     moved = at + displacement
@@ -180,8 +196,7 @@ def test_the_lid_units_crease_is_spread_and_its_margin_kept(head):
     skin = head.find_mesh("skin")
     moved = unit_against_its_target(head, "eye-left-closure", {19: 801, 20: 0})
     target = {"unit": [expected for _, expected, _ in moved]}
-    build_samples.smooth_over(build_samples.makehuman_neutral(), "eyelashes", target,
-                              build_samples.LASH_SMOOTHING_PASSES)
+    build_samples.smooth_lashes(build_samples.makehuman_neutral(), target)
     for i, ((delta, _, mesh), expected) in enumerate(zip(moved, target["unit"])):
         size = np.linalg.norm(expected, axis=1)
         margin = size >= build_samples.LID_SPREAD_BELOW * size.max()
@@ -242,7 +257,7 @@ def apart_from_neighbours(mesh: mpeg4face.IndexedFaceSet, d: np.ndarray) -> np.n
     edges = np.unique(np.sort(np.concatenate([
         np.stack([face, np.roll(face, -1)], axis=1)
         for face in np.split(index, ends + 1)[:-1] for face in [face[:-1]]]), axis=1), axis=0)
-    return np.linalg.norm(d - build_samples.neighbour_mean(edges, d), axis=1)
+    return np.linalg.norm(d - neighbour_mean(edges, d), axis=1)
 
 
 def test_no_lip_key_tears_a_vertex_from_its_neighbours(head):
@@ -461,7 +476,7 @@ def test_viseme_and_expression_keys_are_the_ict_heads_cloned_each_alone(built, h
     ict.meshes = meshes
     neutral = build_samples.makehuman_neutral()
     alone = build_samples.cloned_keys(ict, neutral)
-    build_samples.smooth_over(neutral, "eyelashes", alone, build_samples.LASH_SMOOTHING_PASSES)
+    build_samples.smooth_lashes(neutral, alone)
     assert set(alone) == set(names)
     for name in names:
         for i, mesh in enumerate(head.meshes):
@@ -556,6 +571,21 @@ def test_sample_heads_move_well_in_every_frame(checked, streams, head, ict, name
     assert not bad, f"{len(bad)} of {len(frames)} frames, the first {bad[:5]}"
 
 
+# Frames past any of `check`'s limits, any mesh (issue 41: every sample stream passes on
+# both heads). ICT's one is fear's frame 60, the gums (docs/motion-check.md, Today's samples).
+FRAMES_PAST_A_LIMIT = {"makehuman": 0, "ict": 1}
+
+
+@pytest.mark.parametrize("name", ["makehuman", "ict"])
+def test_every_sample_stream_passes_check_on_both_heads(checked, name):
+    """Every frame of the sample streams through each head's tables, every measure on every
+    mesh: MakeHuman's cloned FAP keys had spike vertices in 24 of the 1091 frames (nostrils,
+    chin) until they were relaxed as `animate` relaxes them, ICT's tongue sliver turned over
+    in 10 (an offset among neighbours moved by rounding)."""
+    past = [(f["name"], f["failures"]) for f in checked[name]["frames"] if f["failures"]]
+    assert len(past) <= FRAMES_PAST_A_LIMIT[name], past
+
+
 def test_makehuman_plays_the_capture_without_spikes(head, ict):
     """The Live Link capture solved on the ICT sample (`arkit to-fap`) and played through the
     MakeHuman sample's tables: no spike vertex on any mesh in any frame (issue 41). MakeHuman
@@ -573,19 +603,20 @@ def test_makehuman_plays_the_capture_without_spikes(head, ict):
 
 
 def test_makehuman_visemes_and_expressions_end_in_a_slope(head, checked):
-    """The cloned viseme and expression keys' regions end feathered (CLONE_FEATHER_BELOW):
-    no skin vertex stands still where its neighbours move, and no viseme has a spike vertex.
+    """The cloned viseme and expression keys' regions end feathered (CloneRelaxation's
+    fringe): no skin vertex stands still where its neighbours move, and no viseme has a spike
+    vertex.
     Unfeathered, a vertex under the chin stood still while its neighbours moved 63% of the
     key's largest motion on average, and every viseme had 4-8 spike vertices."""
     skin = head.meshes[head.find_mesh("skin")]
-    edges = build_samples.mesh_edges(skin)
+    edges = mesh_edges(skin)
     worst = []
     for target in skin.morph_targets:
         parsed = mpeg4face.parse_shape_key_name(target.name)
         if not parsed or parsed["fap"] > 2:
             continue
         size = np.linalg.norm(target.displacements, axis=1)
-        ring = build_samples.neighbour_mean(edges, size[:, None])[:, 0]
+        ring = neighbour_mean(edges, size[:, None])[:, 0]
         still = size == 0
         worst.append((float(ring[still].max(initial=0) / size.max()), target.name))
     assert len(worst) == 20
@@ -597,13 +628,15 @@ def test_makehuman_visemes_and_expressions_end_in_a_slope(head, checked):
 
 def test_ict_shapes_move_no_vertex_alone_by_a_rounding(ict):
     """ICT's expressions with their offsets that are no motion dropped (drop_isolated_offsets):
-    no shape moves a vertex by less than ISOLATED_BELOW while its whole one-ring stays still.
+    no shape moves a vertex by less than ISOLATED_BELOW while its whole one-ring stays still
+    (moves less than STILL_BELOW, float rounding).
     ICT's own right-side shapes move two gum vertices beside the tongue by 0.17 and 0.04 mm,
     which flipped the tongue's sliver triangles in most of the sample streams' frames."""
     below = ict_head.ISOLATED_BELOW * ict_head.SCALE
+    still = ict_head.STILL_BELOW * ict_head.SCALE
     alone = []
     for mesh in ict.meshes:
-        edges = build_samples.mesh_edges(mesh)
+        edges = mesh_edges(mesh)
         for target in mesh.morph_targets:
             if mpeg4face.parse_shape_key_name(target.name):
                 continue
@@ -611,7 +644,7 @@ def test_ict_shapes_move_no_vertex_alone_by_a_rounding(ict):
             ring = np.zeros(len(size))
             np.maximum.at(ring, edges[:, 0], size[edges[:, 1]])
             np.maximum.at(ring, edges[:, 1], size[edges[:, 0]])
-            moved = np.flatnonzero((size > 0) & (size < below) & (ring == 0))
+            moved = np.flatnonzero((size > 0) & (size < below) & (ring < still))
             alone += [(mesh.name, target.name, int(v)) for v in moved]
     assert not alone, f"{len(alone)}, the first {alone[:5]}"
 
