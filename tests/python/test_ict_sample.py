@@ -233,6 +233,23 @@ def test_each_fap_key_moves_its_feature_point_by_its_amplitude(built):
     assert measured >= 30
 
 
+def test_only_the_jaw_and_tongue_faps_move_the_teeth_and_gums(built):
+    """The teeth and the gums and tongue are meshes of their own: the jaw FAPs' keys (3, 14,
+    15) move the lower teeth and gums, no lip or cheek FAP's key moves any of them (its
+    fitted share of jawOpen and jawForward once did, and twelve lip FAPs sent together in
+    fear.fap pulled the lower gums into the floor of the mouth; docs/arkit.md)."""
+    head, _ = built
+    parts = {head.find_mesh(n) for n in ("teeth_upper", "teeth_lower", "gums_tongue")}
+    moved = {}
+    for i in parts:
+        for target in head.meshes[i].morph_targets:
+            parsed = mpeg4face.parse_shape_key_name(target.name)
+            if parsed and parsed["fap"] > 2 and np.any(target.displacements):
+                moved.setdefault(parsed["fap"], set()).add(head.meshes[i].name)
+    assert set(moved) <= {3, 14, 15, 43, 44, 45, 46, 47}, sorted(moved)
+    assert moved[3] == {"teeth_lower", "gums_tongue"}
+
+
 def test_fap_keys_hold_past_their_siblings_reach(built):
     """The lower lip's FAPs sent together far past their keys (the Xface fear stream's
     -866) stop at one reach, three times the smallest key of the six, and the lip keeps

@@ -186,6 +186,29 @@ std::vector<int> holdAtReach(ArkitMapping& mapping) {
   return reach;
 }
 
+// The teeth and the tongue move with the jaw FAPs (3, 14, 15) and the tongue's (43-47) only.
+// A lip or cheek FAP's key fitted to the ARKit shapes takes a share of jawOpen and
+// jawForward, lower teeth and gums included; the Xface fear stream sends twelve lip FAPs at
+// once and their shares pulled the ICT sample's lower gums 10 mm back into the floor of the
+// mouth. So where the teeth or the tongue are meshes of their own (a teeth or tongue point
+// on a mesh that is not the chin's), the other FAPs' keys leave them still.
+void keepTeethAndTongueToTheirFaps(const FaceModel& head, const ArkitMapping& mapping,
+                                   std::vector<std::map<int, Points3>>& keyMotion) {
+  const auto chin = head.featurePoints.find("2.1");
+  const int face = chin == head.featurePoints.end() ? -1 : chin->second.mesh;
+  std::set<int> parts;
+  for (const auto& [id, binding] : head.featurePoints) {
+    const bool teethOrTongue = id.starts_with("6.") || id == "9.8" || id == "9.9" ||
+                               id == "9.10" || id == "9.11";
+    if (teethOrTongue && binding.mesh >= 0 && binding.mesh != face) parts.insert(binding.mesh);
+  }
+  for (std::size_t k = 0; k < mapping.keys.size(); ++k) {
+    const int fap = mapping.keys[k].fap;
+    if (arkit::isJawFap(fap) || (fap >= 43 && fap <= 47)) continue;
+    std::erase_if(keyMotion[k], [&](const auto& entry) { return parts.contains(entry.first); });
+  }
+}
+
 // The FAPs of the areas several FAPs share (the lips, chin, cheeks, brows and nose).
 std::vector<int> areaFaps() {
   std::vector<int> faps;
@@ -475,6 +498,7 @@ ArkitKeys arkitFapKeys(const FaceModel& head, const ArkitKeysOptions& options) {
     }
   }
   arkit::fitKeysToShapeCombinations(out.head, out.shapes, fapu, out.mapping, keyMotion);
+  keepTeethAndTongueToTheirFaps(out.head, out.mapping, keyMotion);
   for (std::size_t k = 0; k < out.mapping.keys.size(); ++k) {
     const ArkitFapKey& key = out.mapping.keys[k];
     const std::string& name = names[k];
