@@ -150,7 +150,7 @@ def read_ict() -> tuple[np.ndarray, list[np.ndarray], list[int], dict[str, np.nd
 # and the vertex stood out as a spike in 180 (docs/samples.md). Such offsets are dropped. A
 # neighbour moving less than STILL_BELOW (0.01 mm, rounding) counts as still: the blinks and
 # mouthLeft/Right move one more gum vertex by 0.02 cm among neighbours moved 1e-5 cm, and it
-# turned a sliver of the tongue over in 11 frames.
+# turned a sliver of the tongue over in 10 frames.
 ISOLATED_BELOW = 0.05  # cm
 STILL_BELOW = 1e-3  # cm
 
