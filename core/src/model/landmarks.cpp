@@ -15,6 +15,7 @@
 #include <numeric>
 #include <optional>
 
+#include "model/landmark_rules.hpp"
 #include "model/surface_closest_point.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/model/fapu.hpp"
@@ -25,25 +26,10 @@ namespace {
 
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
+using landmark_fit::normalsOf;
+using landmark_fit::Surface;
 
-// A mesh in model space with its closest-point search.
-struct Surface {
-  int mesh = -1;
-  Points3 points;
-  std::vector<int> triangles;
-  std::unique_ptr<SurfaceClosestPoint> search;
-  std::vector<std::pair<int, int>> edges;  // each once, (lower, higher) vertex, sorted
-  std::vector<bool> boundary;  // per vertex: on an edge of one triangle (a cut, a hole)
-
-  int triangleCount() const { return static_cast<int>(triangles.size() / 3); }
-  Vector3d corner(int t, int k) const {
-    return points.row(triangles[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(k)]);
-  }
-  Vector3d triangleNormal(int t) const {
-    return (corner(t, 1) - corner(t, 0)).cross(corner(t, 2) - corner(t, 0)).normalized();
-  }
-};
-
+// The mesh `mesh` of `model` in model space, searchable.
 Surface surfaceOf(const FaceModel& model, const std::vector<Eigen::Affine3d>& world, int mesh) {
   Surface s;
   s.mesh = mesh;
@@ -218,19 +204,6 @@ double similarityIcp(const std::vector<Vector3d>& sample, const Surface& target,
   return median;
 }
 
-// Vertex normals of a triangle set over `points`.
-std::vector<Vector3d> normalsOf(const Points3& points, const std::vector<int>& triangles) {
-  std::vector<Vector3d> n(static_cast<std::size_t>(points.rows()), Vector3d::Zero());
-  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-    const Vector3d a = points.row(triangles[t]), b = points.row(triangles[t + 1]),
-                   c = points.row(triangles[t + 2]);
-    const Vector3d f = (b - a).cross(c - a);
-    for (std::size_t k = 0; k < 3; ++k) n[static_cast<std::size_t>(triangles[t + k])] += f;
-  }
-  for (Vector3d& v : n) v = v.norm() > 0 ? v.normalized() : Vector3d::Zero();
-  return n;
-}
-
 std::string percentText(double fraction) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f%%", 100 * fraction);
@@ -265,170 +238,6 @@ Vector3d pinPosition(const FaceModel& target, const std::vector<Eigen::Affine3d>
                     std::to_string(pin.mesh) + " is not in the head");
   }
   return world[mesh] * Vector3d(target.meshes[mesh].coord.row(pin.vertex).transpose());
-}
-
-// The points a rule of their own places better than the fit: the midline points onto the
-// head's symmetry plane, the nose tip as its most forward midline vertex, the subnasale as
-// the deepest midline vertex between the nose tip and the upper lip (the rules both sample
-// heads' points follow; docs/landmarks.md).
-void refineByRules(const FaceModel& templateHead, const Surface& face, const Matrix3d& rotation,
-                   double es0, LandmarkResult& result) {
-  const auto placedAt = [&](const std::string& id) -> std::optional<Vector3d> {
-    const auto p = result.points.find(id);
-    if (p == result.points.end() || p->second.binding.mesh != face.mesh) return std::nullopt;
-    return p->second.binding.position;
-  };
-  // Left/right pairs and midline points, by the template's x (MPEG-4 axes: x to the face's
-  // left, the midline at the template's symmetry plane).
-  std::vector<std::pair<std::string, Vector3d>> templatePoints;
-  for (const auto& [id, b] : templateHead.featurePoints) {
-    if (const auto p = templateHead.featurePointPosition(id); p && result.points.count(id))
-      templatePoints.emplace_back(id, *p);
-  }
-  double midX = 0;
-  int onMid = 0;
-  for (const auto& [id, p] : templatePoints) {
-    if (id == "9.3" || id == "2.1" || id == "8.1" || id == "9.15") {
-      midX += p.x();
-      ++onMid;
-    }
-  }
-  midX = onMid ? midX / onMid : 0;
-  const double templateEs0 = es0 / result.scale;
-  Vector3d normal = Vector3d::Zero();
-  std::vector<Vector3d> middles;
-  std::vector<std::string> midline;
-  for (const auto& [id, p] : templatePoints) {
-    if (std::abs(p.x() - midX) < 0.005 * templateEs0) {
-      midline.push_back(id);
-      continue;
-    }
-    if (p.x() < midX) continue;
-    for (const auto& [other, q] : templatePoints) {
-      const Vector3d mirrored(2 * midX - q.x(), q.y(), q.z());
-      if (other == id || (mirrored - p).norm() > 0.02 * templateEs0) continue;
-      const auto a = placedAt(id), b = placedAt(other);
-      if (!a || !b) continue;
-      normal += *a - *b;
-      middles.push_back((*a + *b) / 2);
-    }
-  }
-  if (middles.size() < 4 || !(normal.norm() > 0)) return;
-  normal.normalize();
-  double offset = 0;
-  for (const Vector3d& m : middles) offset += normal.dot(m);
-  offset /= static_cast<double>(middles.size());
-  // The plane refined on the surface itself: each face vertex near the points and the
-  // surface point nearest its mirror image are a pair the plane's reflection should swap.
-  {
-    Vector3d centre = Vector3d::Zero();
-    for (const Vector3d& m : middles) centre += m;
-    centre /= static_cast<double>(middles.size());
-    std::vector<Eigen::Index> near;
-    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
-      if ((face.points.row(v).transpose() - centre).norm() < 1.2 * es0) near.push_back(v);
-    }
-    const std::size_t step = std::max<std::size_t>(1, near.size() / 2000);
-    for (int it = 0; it < 10; ++it) {
-      Vector3d sum = Vector3d::Zero(), across = Vector3d::Zero();  // across: the midpoints
-      int pairs = 0;
-      for (std::size_t k = 0; k < near.size(); k += step) {
-        const Vector3d p = face.points.row(near[k]);
-        const double side = normal.dot(p) - offset;
-        if (std::abs(side) < 0.05 * es0) continue;  // too near the plane to say which way
-        const Vector3d image = p - 2 * side * normal;
-        const ClosestPoint c = face.search->closest(image);
-        if ((c.point - image).norm() > 0.05 * es0) continue;
-        sum += side > 0 ? Vector3d(p - c.point) : Vector3d(c.point - p);
-        across += (p + c.point) / 2;
-        ++pairs;
-      }
-      if (pairs < 20 || !(sum.norm() > 0)) break;
-      normal = sum.normalized();
-      offset = normal.dot(across / pairs);  // with the new normal: far from the origin the
-                                            // old one's offset is off by the turn times the
-                                            // distance
-    }
-  }
-  // Forward and up in the plane.
-  Vector3d front = rotation * Vector3d::UnitZ();
-  front = (front - front.dot(normal) * normal).normalized();
-  Vector3d up = normal.cross(front).normalized();
-  if ((rotation * Vector3d::UnitY()).dot(up) < 0) up = -up;
-  // Half the mesh's median edge, so that a coarse mesh still has a vertex on the plane.
-  std::vector<double> edgeLengths;
-  for (int t = 0; t < face.triangleCount(); ++t) {
-    edgeLengths.push_back((face.corner(t, 1) - face.corner(t, 0)).norm());
-  }
-  const double band = std::clamp(0.5 * percentile(edgeLengths, 0.5), 0.005 * es0, 0.03 * es0);
-  // On the plane and facing out of it, not a wall of the plane such as the nasal septum.
-  const std::vector<Vector3d> facing = normalsOf(face.points, face.triangles);
-  const auto onPlane = [&](Eigen::Index v) {
-    return std::abs(normal.dot(face.points.row(v).transpose()) - offset) < band &&
-           std::abs(facing[static_cast<std::size_t>(v)].dot(normal)) < 0.5;
-  };
-  const auto set = [&](const std::string& id, Eigen::Index v, const std::string& rule) {
-    PlacedFeaturePoint& p = result.points[id];
-    p.binding.vertex = static_cast<int>(v);
-    p.binding.position = face.points.row(v);
-    p.rule = rule;
-  };
-  // Midline points: the plane's vertex nearest where the fit put them.
-  for (const std::string& id : midline) {
-    const auto at = placedAt(id);
-    if (!at) continue;
-    Eigen::Index best = -1;
-    double nearest = 0.15 * es0;
-    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
-      const double d = (face.points.row(v).transpose() - *at).norm();
-      if (d < nearest && onPlane(v)) {
-        nearest = d;
-        best = v;
-      }
-    }
-    if (best >= 0) set(id, best, "fit, on the symmetry plane");
-  }
-  // The nose tip: the most forward midline vertex near the fit's.
-  if (const auto tip = placedAt("9.3")) {
-    Eigen::Index best = -1;
-    double ahead = -std::numeric_limits<double>::infinity();
-    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
-      const Vector3d q = face.points.row(v);
-      if ((q - *tip).norm() > 0.4 * es0 || !onPlane(v) || front.dot(q) <= ahead) continue;
-      ahead = front.dot(q);
-      best = v;
-    }
-    if (best >= 0) set("9.3", best, "most forward midline vertex");
-  }
-  // The subnasale: the least forward vertex of the midline profile (the most forward
-  // midline vertex at each height, of those facing forward: not the nose's inside) between
-  // the nose tip and the upper lip.
-  const auto tip = placedAt("9.3"), lip = placedAt("8.1"), sub = placedAt("9.15");
-  if (tip && lip && sub) {
-    const double bin = 0.025 * es0;
-    std::map<long, Eigen::Index> profile;  // height bin -> most forward vertex
-    for (Eigen::Index v = 0; v < face.points.rows(); ++v) {
-      const Vector3d q = face.points.row(v);
-      if (!onPlane(v) || up.dot(q) >= up.dot(*tip) || up.dot(q) <= up.dot(*lip) ||
-          (q - *sub).norm() > 0.3 * es0 || facing[static_cast<std::size_t>(v)].dot(front) < 0)
-        continue;
-      const long key = std::lround(up.dot(q) / bin);
-      const auto [at, added] = profile.emplace(key, v);
-      if (!added && front.dot(q) > front.dot(face.points.row(at->second).transpose())) {
-        at->second = v;
-      }
-    }
-    Eigen::Index best = -1;
-    double depth = std::numeric_limits<double>::infinity();
-    for (const auto& [key, v] : profile) {
-      const double d = front.dot(face.points.row(v).transpose());
-      if (d < depth) {
-        depth = d;
-        best = v;
-      }
-    }
-    if (best >= 0) set("9.15", best, "least forward midline vertex between 9.3 and 8.1");
-  }
 }
 
 }  // namespace
@@ -784,7 +593,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
     }
     result.points[id] = placed;
   }
-  refineByRules(templateHead, face, best.rotation, es0, result);
+  landmark_fit::refineByRules(templateHead, face, parts, best.rotation, es0, result);
   for (const auto& [id, binding] : options.pins) {
     PlacedFeaturePoint pin;
     pin.binding = binding;
