@@ -340,6 +340,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
   }
   // The face alone decides the last of the alignment: necks, backs of heads and hair differ
   // more between heads than faces do.
+  double faceScore = bestScore;
   {
     Vector3d centre = Vector3d::Zero();
     std::vector<Vector3d> facePoints;
@@ -366,17 +367,22 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
       for (std::size_t i = 0; i < keep; ++i) thinned.push_back(sample[i * sample.size() / keep]);
       sample = std::move(thinned);
     }
-    similarityIcp(sample, face, pins, from.radius, 30, best);
+    faceScore = similarityIcp(sample, face, pins, from.radius, 30, best);
   }
   result.scale = best.scale;
-  result.alignmentResidual = bestScore;
+  // Whether there is a face: the whole template against the head, unless three pins say
+  // where the face is; then its face alone (a mask has no back of the head, and the face
+  // alone fits an egg or a sphere nearly as well as the whole head fits no face).
+  result.alignmentResidual = pins.size() >= 3 ? faceScore : bestScore;
   result.alignment.linear() = best.scale * best.rotation;
   result.alignment.translation() = best.translation;
   const double es0 = templateEs0 * best.scale;  // the target's ES0, as far as we know yet
-  if (bestScore > kNoFace) {
-    throw Error("no face found: the best alignment of the template leaves half its surface " +
-                percentText(bestScore) + " of the head's size or more from it (a face fits " +
-                "within " + percentText(kNoFace) + ")");
+  if (result.alignmentResidual > kNoFace) {
+    throw Error("no face found: the best alignment of the template leaves half its " +
+                std::string(pins.size() >= 3 ? "face " : "surface ") +
+                percentText(result.alignmentResidual) +
+                " of the head's size or more from it (a face fits within " + percentText(kNoFace) +
+                ")");
   }
 
   // 2. Non-rigid ICP: each template vertex moves to the target, the displacement field kept

@@ -43,7 +43,8 @@ struct LandmarkResult {
   Eigen::Affine3d alignment = Eigen::Affine3d::Identity();
   double scale = 1;
   // Median distance of the aligned (not yet fitted) template to the target, in fractions of
-  // the template's RMS radius carried by the scale: heads 1-2%, no face past 4%.
+  // the template's RMS radius carried by the scale: heads 1-2%, no face past 4.5%. With three
+  // or more pins, of the template's face alone (a mask has no back of the head).
   double alignmentResidual = 0;
   // Median distance of the fitted template's face to the target, in fractions of the
   // template's ES0 carried to the target.
