@@ -54,7 +54,8 @@ class FrontView {
   FrontView(const Surface& skin, const Surface& eye, const Vector3d& pupil,
             const Vector3d& front, double es0)
       : skin_(skin), eye_(eye), front_(front), reach_(0.6 * es0),
-        skinNear_(trianglesNear(skin, pupil, reach_)), eyeNear_(trianglesNear(eye, pupil, reach_)) {}
+        skinNear_(trianglesNear(skin, pupil, reach_)),
+        eyeNear_(trianglesNear(eye, pupil, reach_)) {}
 
   bool eyeSeen(const Vector3d& at) const {
     const Vector3d o = at + reach_ * front_;
@@ -135,7 +136,9 @@ std::optional<Vector3d> outerEyeCorner(const FrontView& view, const Vector3d& pu
                                        const Vector3d& up, const Vector3d& lateral,
                                        double es0) {
   if (!view.eyeSeen(pupil)) return std::nullopt;
-  const auto at = [&](double u, double v) { return Vector3d(pupil + es0 * (u * lateral + v * up)); };
+  const auto at = [&](double u, double v) {
+    return Vector3d(pupil + es0 * (u * lateral + v * up));
+  };
   // A grid of 1% of ES0 for the farthest cell seen, then its rows a fifth as far apart and
   // each walked out in steps of 0.2%.
   double farU = -1, farV = 0;
