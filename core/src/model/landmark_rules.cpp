@@ -184,7 +184,8 @@ std::vector<Vector3d> normalsOf(const Points3& points, const std::vector<int>& t
 
 // The midline points onto the head's symmetry plane, the nose tip as its most forward midline
 // vertex, the subnasale as the deepest midline vertex between the nose tip and the upper lip
-// (the rules both sample heads' points follow), the eyelids on the lid margin.
+// (the rules both sample heads' points follow), the eyelids and the outer eye corners at the
+// edge of the eye's opening.
 void refineByRules(const FaceModel& templateHead, const Surface& face,
                    const std::vector<Surface>& parts, const Matrix3d& rotation, double es0,
                    LandmarkResult& result) {

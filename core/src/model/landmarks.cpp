@@ -299,8 +299,10 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
   for (Eigen::Index v = 0; v < skin.points.rows(); v += stride) {
     sample.push_back(skin.points.row(v));
   }
+  // Three pins or more fix the alignment and say where the face is.
+  const bool pinned = pins.size() >= 3;
   std::vector<Similarity> starts;
-  if (pins.size() >= 3) {
+  if (pinned) {
     std::vector<Vector3d> a, b;
     std::vector<double> w;
     for (const Pair& p : pins) {
@@ -340,7 +342,7 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
   }
   // The face alone decides the last of the alignment: necks, backs of heads and hair differ
   // more between heads than faces do.
-  double faceScore = bestScore;
+  double faceScore = 0;  // the face alone's residual, measured below
   {
     Vector3d centre = Vector3d::Zero();
     std::vector<Vector3d> facePoints;
@@ -370,16 +372,16 @@ LandmarkResult findFeaturePoints(const FaceModel& target, const FaceModel& templ
     faceScore = similarityIcp(sample, face, pins, from.radius, 30, best);
   }
   result.scale = best.scale;
-  // Whether there is a face: the whole template against the head, unless three pins say
-  // where the face is; then its face alone (a mask has no back of the head, and the face
-  // alone fits an egg or a sphere nearly as well as the whole head fits no face).
-  result.alignmentResidual = pins.size() >= 3 ? faceScore : bestScore;
+  // Whether there is a face: pinned, the template's face alone against the head (a mask has
+  // no back of the head); else the whole template (its face alone fits a sphere within 5.1%,
+  // too near the 4.5% limit to tell).
+  result.alignmentResidual = pinned ? faceScore : bestScore;
   result.alignment.linear() = best.scale * best.rotation;
   result.alignment.translation() = best.translation;
   const double es0 = templateEs0 * best.scale;  // the target's ES0, as far as we know yet
   if (result.alignmentResidual > kNoFace) {
     throw Error("no face found: the best alignment of the template leaves half its " +
-                std::string(pins.size() >= 3 ? "face " : "surface ") +
+                std::string(pinned ? "face " : "surface ") +
                 percentText(result.alignmentResidual) +
                 " of the head's size or more from it (a face fits within " + percentText(kNoFace) +
                 ")");
