@@ -1,16 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// CGAL is heavy to compile: it stays in this file.
 #include "mpeg4face/fat/motion_check.hpp"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <iterator>
+#include <optional>
 #include <numbers>
 
 #include "mpeg4face/error.hpp"
@@ -20,25 +16,16 @@
 #include "mpeg4face/model/fapu.hpp"
 #include "mpeg4face/model/surface_bump.hpp"
 #include "mpeg4face/spec.hpp"
+#include "fat/pose_intersections.hpp"
 #include "percentile.hpp"
 
 namespace mpeg4face {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
-using FaceIndex = SurfaceMesh::Face_index;
-namespace PMP = CGAL::Polygon_mesh_processing;
-
 std::string format(const char* pattern, double value) {
   char text[64];
   std::snprintf(text, sizeof text, pattern, value);
   return text;
-}
-
-std::uint64_t pairKey(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
 }
 
 std::vector<std::string> pointIds(int group, int last) {
@@ -47,9 +34,9 @@ std::vector<std::string> pointIds(int group, int last) {
   return ids;
 }
 
-// One mesh's neutral, prepared once: its edges, normals, one-rings, a CGAL surface mesh whose
-// point positions each pose overwrites, the self-intersections it already has, and which
-// vertices lie where lips or lids may touch.
+// One mesh's neutral, prepared once: its edges, normals, one-rings, its self-intersection
+// test (which knows the pairs the neutral already has), and which vertices lie where lips or
+// lids may touch.
 struct MeshCheck {
   int mesh = 0;
   std::vector<int> triangles;             // three per triangle, degenerate ones left out
@@ -58,11 +45,8 @@ struct MeshCheck {
   std::vector<Eigen::Vector3d> normal;    // neutral, unnormalised
   WeldedRings rings;                      // for the bumps
   double moveTolerance = 0;               // a vertex moved when it moved more than this
-  SurfaceMesh surface;
-  std::vector<int> vertexSource;            // surface vertex -> mesh vertex
-  std::vector<int> faceTriangle;            // surface face -> triangle
-  std::vector<std::uint64_t> neutralPairs;  // sorted triangle pairs that intersect
-  std::vector<bool> lip, lid;               // per mesh vertex
+  std::optional<fat::PoseIntersections> intersections;  // of `triangles`
+  std::vector<bool> lip, lid;                           // per mesh vertex
   // The triangles the head's own shapes turn over or make intersect, and their spike
   // vertices (sorted): a flip of such a triangle, a new pair with one, such a spike is the
   // head's, not counted.
@@ -70,31 +54,6 @@ struct MeshCheck {
 
   bool ownTriangle(int t) const {
     return std::binary_search(ownTriangles.begin(), ownTriangles.end(), t);
-  }
-
-  void setPoints(const Points3& coord) {
-    for (SurfaceMesh::Vertex_index v : surface.vertices()) {
-      const auto row = coord.row(vertexSource[v.idx()]);
-      surface.point(v) = Kernel::Point_3(row[0], row[1], row[2]);
-    }
-  }
-
-  // Intersecting triangle pairs among `faces` (all when empty), as sorted keys.
-  std::vector<std::uint64_t> intersections(const std::vector<FaceIndex>* faces) const {
-    std::vector<std::pair<FaceIndex, FaceIndex>> pairs;
-    if (faces) {
-      PMP::self_intersections(*faces, surface, std::back_inserter(pairs));
-    } else {
-      PMP::self_intersections(surface, std::back_inserter(pairs));
-    }
-    std::vector<std::uint64_t> keys;
-    for (const auto& [f, g] : pairs) {
-      if (f == g) continue;  // a degenerate triangle: the edge ratio judges it
-      keys.push_back(pairKey(faceTriangle[f.idx()], faceTriangle[g.idx()]));
-    }
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-    return keys;
   }
 
   // All `n` vertices in the lip region, or all in the lid region: where lips or lids meet,
@@ -144,30 +103,7 @@ MeshCheck prepareMesh(const FaceModel& model, int m, const std::vector<Eigen::Ve
       coord.rows() ? (coord.colwise().maxCoeff() - coord.colwise().minCoeff()).norm() : 0.0;
   c.moveTolerance = 1e-7 * size;
 
-  // Vertex i of the surface is mesh vertex i; a triangle CGAL cannot join to its neighbours
-  // (a non-manifold edge or vertex, or one facing the other way) gets its own three
-  // vertices: it then touches its neighbours in the neutral as in every pose, so it adds no
-  // new intersection.
-  for (int v = 0; v < mesh.vertexCount(); ++v) {
-    c.surface.add_vertex();
-    c.vertexSource.push_back(v);
-  }
-  for (std::size_t t = 0; t < triangleCount; ++t) {
-    std::array<SurfaceMesh::Vertex_index, 3> v;
-    for (int k = 0; k < 3; ++k) v[k] = SurfaceMesh::Vertex_index(c.triangles[3 * t + k]);
-    FaceIndex f = c.surface.add_face(v[0], v[1], v[2]);
-    if (f == SurfaceMesh::null_face()) {
-      for (int k = 0; k < 3; ++k) {
-        v[k] = c.surface.add_vertex();
-        c.vertexSource.push_back(c.triangles[3 * t + k]);
-      }
-      f = c.surface.add_face(v[0], v[1], v[2]);
-    }
-    if (c.faceTriangle.size() <= f.idx()) c.faceTriangle.resize(f.idx() + 1, -1);
-    c.faceTriangle[f.idx()] = static_cast<int>(t);
-  }
-  c.setPoints(coord);
-  c.neutralPairs = c.intersections(nullptr);
+  c.intersections.emplace(coord, c.triangles);
 
   const Eigen::Affine3d world = model.meshWorldMatrices()[m];
   const auto near = [&](const std::vector<Eigen::Vector3d>& points, double radius, int v) {
@@ -207,7 +143,8 @@ class Checker {
     if (!fapu_.ES0.measured) result_.notes.push_back("ES0 not measured: no lid region");
     for (int m = 0; m < static_cast<int>(neutral.meshes.size()); ++m) {
       meshes_.push_back(prepareMesh(neutral, m, lips, lipRadius, lids, lidRadius));
-      result_.neutralIntersections += static_cast<int>(meshes_.back().neutralPairs.size());
+      result_.neutralIntersections +=
+          static_cast<int>(meshes_.back().intersections->neutralPairs().size());
     }
     const bool corners = neutral.featurePointPosition("2.4") &&
                          neutral.featurePointPosition("2.5") &&
@@ -367,18 +304,13 @@ class Checker {
       offending.insert(offending.end(), out.spikeVertices.begin(), out.spikeVertices.end());
     }
 
-    // Triangles with a moved corner: flips, and the box they span for the intersection test.
+    // Triangles with a moved corner: flips.
     const double cosFlip = std::cos(limits_.flipDegrees * std::numbers::pi / 180);
     const std::size_t triangleCount = c.triangles.size() / 3;
-    CGAL::Bbox_3 movedBox;
     bool anyTriangle = false;
     for (std::size_t t = 0; t < triangleCount; ++t) {
       const int* tri = &c.triangles[3 * t];
       if (!moved[tri[0]] && !moved[tri[1]] && !moved[tri[2]]) continue;
-      for (int k = 0; k < 3; ++k) {
-        const auto row = coord.row(tri[k]);
-        movedBox += CGAL::Bbox_3(row[0], row[1], row[2], row[0], row[1], row[2]);
-      }
       anyTriangle = true;
       const Eigen::Vector3d n = c.triangleNormal(coord, t);
       const double norms = n.norm() * c.normal[t].norm();
@@ -396,20 +328,9 @@ class Checker {
       }
     }
 
-    // New self-intersections: only pairs with a moved triangle can be new, and only faces
-    // whose box meets the moved triangles' box can meet a moved triangle; CGAL tests those.
+    // New self-intersections.
     if (anyTriangle) {
-      c.setPoints(coord);
-      std::vector<FaceIndex> faces;
-      for (FaceIndex f : c.surface.faces()) {
-        const auto h = c.surface.halfedge(f);
-        const CGAL::Bbox_3 box = c.surface.point(c.surface.source(h)).bbox() +
-                                 c.surface.point(c.surface.target(h)).bbox() +
-                                 c.surface.point(c.surface.target(c.surface.next(h))).bbox();
-        if (CGAL::do_overlap(box, movedBox)) faces.push_back(f);
-      }
-      for (std::uint64_t key : c.intersections(&faces)) {
-        if (std::binary_search(c.neutralPairs.begin(), c.neutralPairs.end(), key)) continue;
+      for (std::uint64_t key : c.intersections->newPairs(coord)) {
         const std::array<int, 2> pair{static_cast<int>(key >> 32),
                                       static_cast<int>(key & 0xffffffffu)};
         const std::array<int, 6> corners{

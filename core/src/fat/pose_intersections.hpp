@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Internal: the motion check's self-intersection test, for many poses of one mesh. Not
+// installed.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "mpeg4face/model/face_model.hpp"
+
+namespace mpeg4face::fat {
+
+// Two triangles intersect as CGAL's Polygon_mesh_processing::self_intersections says: the
+// triangles meet other than in the vertex or edge they share. Keys: (smaller triangle << 32)
+// | larger triangle, triangles counted in the order given.
+//
+// A pose can only make new pairs where something moved far enough. Each face gets a clearance
+// from the neutral: less than half its distance to every face that shares no edge with it
+// (for a face sharing one vertex, the distance of each one's opposite edge to the other).
+// Two faces that each moved less than their clearance have not closed the gap between them,
+// so each pose tests exactly (CGAL's predicates) the pairs with a face moved past its
+// clearance, and every pair sharing an edge (one orientation test: they meet only when flat
+// and folded over).
+class PoseIntersections {
+ public:
+  // `triangles`: three rows of `neutral` each. They are joined as a CGAL Surface_mesh joins
+  // them; a triangle that cannot be (a non-manifold edge or vertex, or one facing the other
+  // way) is kept apart, touching its neighbours in the neutral as in every pose.
+  PoseIntersections(const Points3& neutral, const std::vector<int>& triangles);
+  ~PoseIntersections();
+  PoseIntersections(PoseIntersections&&) noexcept;
+  PoseIntersections& operator=(PoseIntersections&&) noexcept;
+
+  // The neutral's intersecting pairs, sorted.
+  const std::vector<std::uint64_t>& neutralPairs() const;
+
+  // The pose's intersecting pairs that are not the neutral's, sorted.
+  std::vector<std::uint64_t> newPairs(const Points3& pose) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Every intersecting pair of `triangles` at `coord`, sorted: CGAL's self_intersections on the
+// whole mesh (joined as above), the reference the fast test is measured against.
+std::vector<std::uint64_t> allIntersectingPairs(const Points3& coord,
+                                                const std::vector<int>& triangles);
+
+}  // namespace mpeg4face::fat
