@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 
 namespace mpeg4face::fat {
 namespace {
@@ -21,7 +22,8 @@ using SurfaceMesh = CGAL::Surface_mesh<Point>;
 using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int>;
 using Faces = std::vector<std::array<int, 3>>;
 
-// CGAL's self_intersections cuts its box recursion off at this many boxes too.
+// CGAL's self_intersections cuts its box recursion off at this many boxes too (the
+// clearances are found with it, once).
 constexpr std::ptrdiff_t kBoxCutoff = 2000;
 
 std::uint64_t pairKey(int a, int b) {
@@ -137,13 +139,12 @@ double gap(const std::vector<Point>& p, const std::array<int, 3>& f, const std::
                   segmentTriangleDistance(oppositeSegment(p, f, i), b));
 }
 
-Box boxOf(const std::vector<Point>& p, const std::array<int, 3>& f, int id, double grow = 0) {
-  CGAL::Bbox_3 box = p[f[0]].bbox() + p[f[1]].bbox() + p[f[2]].bbox();
-  if (grow > 0) {
-    box = CGAL::Bbox_3(box.xmin() - grow, box.ymin() - grow, box.zmin() - grow,
-                       box.xmax() + grow, box.ymax() + grow, box.zmax() + grow);
-  }
-  return Box(box, id);
+// Face f's box grown by `grow` on every side.
+Box grownBox(const std::vector<Point>& p, const std::array<int, 3>& f, int id, double grow) {
+  const CGAL::Bbox_3 box = p[f[0]].bbox() + p[f[1]].bbox() + p[f[2]].bbox();
+  return Box(CGAL::Bbox_3(box.xmin() - grow, box.ymin() - grow, box.zmin() - grow,
+                          box.xmax() + grow, box.ymax() + grow, box.zmax() + grow),
+             id);
 }
 
 std::vector<const Box*> pointers(const std::vector<Box>& boxes) {
@@ -152,6 +153,151 @@ std::vector<const Box*> pointers(const std::vector<Box>& boxes) {
   for (const Box& b : boxes) out.push_back(&b);
   return out;
 }
+
+// How a face or a group of faces moved: every vertex of it moved within `radius` of `ref`.
+struct Motion {
+  Eigen::Vector3d ref = Eigen::Vector3d::Zero();
+  double radius = 0;
+};
+
+// A bounding-volume hierarchy over the faces: its shape fixed once from the neutral (each
+// node split at the median of its longest side), its boxes and motions refit to each pose. A
+// pose moves the faces, not their neighbourhoods, so the shape stays good and a refit costs
+// one pass. Each node keeps the smallest clearance of its faces.
+class FaceTree {
+ public:
+  FaceTree() = default;
+  FaceTree(const std::vector<Point>& p, const Faces& faces, const std::vector<double>& clearance) {
+    std::vector<Eigen::Vector3d> centre;
+    for (const std::array<int, 3>& f : faces) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (int v : f) c += Eigen::Vector3d(p[v].x(), p[v].y(), p[v].z());
+      centre.push_back(c / 3);
+      order_.push_back(static_cast<int>(order_.size()));
+    }
+    if (order_.empty()) return;
+    split(centre, 0, static_cast<int>(order_.size()));
+    clearance_.assign(nodes_.size(), std::numeric_limits<double>::infinity());
+    for (std::size_t n = nodes_.size(); n-- > 0;) {
+      const Node& node = nodes_[n];
+      if (node.left >= 0) {
+        clearance_[n] = std::min(clearance_[node.left], clearance_[node.left + 1]);
+        continue;
+      }
+      for (int i = node.first; i < node.first + node.count; ++i)
+        clearance_[n] = std::min(clearance_[n], clearance[order_[i]]);
+    }
+  }
+
+  // The nodes' boxes and motions from the faces' (an empty box for a face left out).
+  void refit(const std::vector<CGAL::Bbox_3>& faceBox, const std::vector<Motion>& faceMotion,
+             std::vector<CGAL::Bbox_3>& nodeBox, std::vector<Motion>& nodeMotion) const {
+    nodeBox.assign(nodes_.size(), CGAL::Bbox_3());
+    nodeMotion.assign(nodes_.size(), Motion{});
+    const auto gather = [](Motion& into, const Motion& part) {
+      into.radius = std::max(into.radius, part.radius + (part.ref - into.ref).norm());
+    };
+    for (std::size_t n = nodes_.size(); n-- > 0;) {
+      const Node& node = nodes_[n];
+      if (node.left < 0) {
+        nodeMotion[n].ref = faceMotion[order_[node.first]].ref;
+        for (int i = node.first; i < node.first + node.count; ++i) {
+          nodeBox[n] += faceBox[order_[i]];
+          gather(nodeMotion[n], faceMotion[order_[i]]);
+        }
+      } else {
+        nodeBox[n] = nodeBox[node.left] + nodeBox[node.left + 1];
+        nodeMotion[n].ref = nodeMotion[node.left].ref;
+        gather(nodeMotion[n], nodeMotion[node.left]);
+        gather(nodeMotion[n], nodeMotion[node.left + 1]);
+      }
+    }
+  }
+
+  // Calls `visit(f, g)` once for each pair of faces in leaves whose boxes meet, except where
+  // no vertex of two nodes moved relative to one of the other as far as the larger of their
+  // clearances.
+  template <typename Visit>
+  void pairs(const std::vector<CGAL::Bbox_3>& nodeBox, const std::vector<Motion>& nodeMotion,
+             Visit&& visit) const {
+    if (nodes_.empty()) return;
+    std::vector<std::array<int, 2>> todo{{0, 0}};
+    while (!todo.empty()) {
+      const auto [a, b] = todo.back();
+      todo.pop_back();
+      const Motion &ma = nodeMotion[a], &mb = nodeMotion[b];
+      if (ma.radius + mb.radius + (ma.ref - mb.ref).norm() < std::max(clearance_[a], clearance_[b]))
+        continue;
+      const Node &na = nodes_[a], &nb = nodes_[b];
+      if (a == b) {
+        if (na.left >= 0) {
+          todo.push_back({na.left, na.left});
+          todo.push_back({na.left + 1, na.left + 1});
+          todo.push_back({na.left, na.left + 1});
+          continue;
+        }
+        for (int i = na.first; i < na.first + na.count; ++i) {
+          for (int j = i + 1; j < na.first + na.count; ++j) visit(order_[i], order_[j]);
+        }
+        continue;
+      }
+      if (!CGAL::do_overlap(nodeBox[a], nodeBox[b])) continue;
+      if (na.left < 0 && nb.left < 0) {
+        for (int i = na.first; i < na.first + na.count; ++i) {
+          for (int j = nb.first; j < nb.first + nb.count; ++j) visit(order_[i], order_[j]);
+        }
+      } else if (nb.left < 0 || (na.left >= 0 && na.count >= nb.count)) {
+        todo.push_back({na.left, b});
+        todo.push_back({na.left + 1, b});
+      } else {
+        todo.push_back({a, nb.left});
+        todo.push_back({a, nb.left + 1});
+      }
+    }
+  }
+
+ private:
+  struct Node {
+    int first = 0, count = 0;  // a leaf's faces: order_[first, first + count)
+    int left = -1;             // an inner node's children: left, left + 1
+  };
+  static constexpr int kLeafFaces = 4;
+
+  // Children are stored in pairs after their parent, so a reverse pass meets them first.
+  void split(const std::vector<Eigen::Vector3d>& centre, int first, int count) {
+    struct Range {
+      int node, first, count;
+    };
+    nodes_.push_back({first, count, -1});
+    std::vector<Range> todo{{0, first, count}};
+    while (!todo.empty()) {
+      const Range r = todo.back();
+      todo.pop_back();
+      if (r.count <= kLeafFaces) continue;
+      Eigen::Vector3d lo = centre[order_[r.first]], hi = lo;
+      for (int i = r.first; i < r.first + r.count; ++i) {
+        lo = lo.cwiseMin(centre[order_[i]]);
+        hi = hi.cwiseMax(centre[order_[i]]);
+      }
+      int axis = 0;
+      (hi - lo).maxCoeff(&axis);
+      const int half = r.count / 2;
+      std::nth_element(order_.begin() + r.first, order_.begin() + r.first + half,
+                       order_.begin() + r.first + r.count,
+                       [&](int a, int b) { return centre[a][axis] < centre[b][axis]; });
+      const int left = static_cast<int>(nodes_.size());
+      nodes_[r.node].left = left;
+      nodes_.push_back({r.first, half, -1});
+      nodes_.push_back({r.first + half, r.count - half, -1});
+      todo.push_back({left, r.first, half});
+      todo.push_back({left + 1, r.first + half, r.count - half});
+    }
+  }
+
+  std::vector<int> order_;
+  std::vector<Node> nodes_;
+  std::vector<double> clearance_;  // per node
+};
 
 }  // namespace
 
@@ -165,12 +311,22 @@ struct PoseIntersections::Impl {
   std::vector<int> source;
   std::vector<Point> neutral;
   std::vector<EdgePair> edgePairs;
-  std::vector<double> clearance;  // per face; < 0: always tested
+  // Per face (< 0: always tested), against the faces sharing no vertex with it and against
+  // those sharing one.
+  std::vector<double> clearance, fanClearance;
   std::vector<std::uint64_t> neutralPairs;
+  FaceTree tree;
 
-  // The pairs sharing an edge that meet at `p`: flat and folded over.
-  void foldedEdges(const std::vector<Point>& p, const std::vector<bool>& degenerate,
-                   std::vector<std::uint64_t>& keys) const {
+  // Each pose's, kept from one to the next: a dense head's would be fresh pages every time.
+  std::vector<Point> p;
+  std::vector<Eigen::Vector3d> d;  // each surface vertex's motion
+  std::vector<bool> degenerate;
+  std::vector<CGAL::Bbox_3> box, nodeBox;
+  std::vector<Motion> motion, nodeMotion;  // a face's about its first vertex's
+  std::vector<std::uint64_t> keys;
+
+  // The pairs sharing an edge that meet in the pose `p` holds: flat and folded over.
+  void foldedEdges() {
     for (const EdgePair& e : edgePairs) {
       if (degenerate[e.f] || degenerate[e.g]) continue;
       const Point &u = p[e.u], &v = p[e.v], &r = p[e.apexF], &s = p[e.apexG];
@@ -229,15 +385,16 @@ PoseIntersections::PoseIntersections(const Points3& neutral, const std::vector<i
   for (const Point& q : s.neutral) size = std::max({size, std::abs(q.x()), std::abs(q.y()),
                                                     std::abs(q.z())});
   const double rounding = 1e-12 * size;
-  const auto share = [&](double distance) { return 0.45 * distance - rounding; };
+  const auto share = [&](double distance) { return 0.9 * distance - rounding; };
   s.clearance.assign(faceCount, share(reach));
+  s.fanClearance.assign(faceCount, share(reach));
   std::vector<Box> boxes;
   for (int f = 0; f < faceCount; ++f) {
     const std::array<int, 3>& t = s.faces[f];
     if (CGAL::collinear(s.neutral[t[0]], s.neutral[t[1]], s.neutral[t[2]])) {
-      s.clearance[f] = -1;
+      s.clearance[f] = s.fanClearance[f] = -1;
     } else {
-      boxes.push_back(boxOf(s.neutral, t, f, reach / 2));
+      boxes.push_back(grownBox(s.neutral, t, f, reach / 2));
     }
   }
   std::vector<const Box*> grown = pointers(boxes);
@@ -250,10 +407,14 @@ PoseIntersections::PoseIntersections(const Points3& neutral, const std::vector<i
         if (std::binary_search(s.neutralPairs.begin(), s.neutralPairs.end(), pairKey(f, g)))
           return;
         const double c = share(gap(s.neutral, s.faces[f], s.faces[g]));
-        s.clearance[f] = std::min(s.clearance[f], c);
-        s.clearance[g] = std::min(s.clearance[g], c);
+        std::vector<double>& of = shared[0] < 0 ? s.clearance : s.fanClearance;
+        of[f] = std::min(of[f], c);
+        of[g] = std::min(of[g], c);
       },
       CGAL::Box_intersection_d::Box_traits_d<const Box*>(), kBoxCutoff);
+  std::vector<double> least(faceCount);
+  for (int f = 0; f < faceCount; ++f) least[f] = std::min(s.clearance[f], s.fanClearance[f]);
+  s.tree = FaceTree(s.neutral, s.faces, least);
 }
 
 PoseIntersections::~PoseIntersections() = default;
@@ -264,38 +425,52 @@ const std::vector<std::uint64_t>& PoseIntersections::neutralPairs() const {
   return impl_->neutralPairs;
 }
 
-std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) const {
-  const Impl& s = *impl_;
-  const std::vector<Point> p = surfacePoints(pose, s.source);
+std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
+  Impl& s = *impl_;
   const std::size_t faceCount = s.faces.size();
-  std::vector<double> moved(p.size());
+  std::vector<Point>& p = s.p;
+  std::vector<Eigen::Vector3d>& d = s.d;
+  p.resize(s.source.size());
+  d.resize(s.source.size());
   for (std::size_t v = 0; v < p.size(); ++v) {
-    moved[v] = std::sqrt(CGAL::squared_distance(p[v], s.neutral[v]));
+    const auto row = pose.row(s.source[v]);
+    p[v] = Point(row[0], row[1], row[2]);
+    d[v] = Eigen::Vector3d(p[v].x() - s.neutral[v].x(), p[v].y() - s.neutral[v].y(),
+                           p[v].z() - s.neutral[v].z());
   }
-  std::vector<bool> degenerate(faceCount);
-  std::vector<Box> active, quiet;
+  std::vector<bool>& degenerate = s.degenerate;
+  std::vector<CGAL::Bbox_3>& box = s.box;
+  degenerate.assign(faceCount, false);
+  box.assign(faceCount, CGAL::Bbox_3());
+  s.motion.resize(faceCount);
   for (std::size_t f = 0; f < faceCount; ++f) {
     const std::array<int, 3>& t = s.faces[f];
+    s.motion[f] = {d[t[0]], std::max((d[t[1]] - d[t[0]]).norm(), (d[t[2]] - d[t[0]]).norm())};
     degenerate[f] = CGAL::collinear(p[t[0]], p[t[1]], p[t[2]]);
-    if (degenerate[f]) continue;
-    const double m = std::max({moved[t[0]], moved[t[1]], moved[t[2]]});
-    (m >= s.clearance[f] ? active : quiet).push_back(boxOf(p, t, static_cast<int>(f)));
+    if (!degenerate[f]) box[f] = p[t[0]].bbox() + p[t[1]].bbox() + p[t[2]].bbox();
   }
+  s.tree.refit(box, s.motion, s.nodeBox, s.nodeMotion);
 
-  std::vector<std::uint64_t> keys;
-  s.foldedEdges(p, degenerate, keys);
-  const auto test = [&](const Box* a, const Box* b) {
-    const int f = a->info(), g = b->info();
+  std::vector<std::uint64_t>& keys = s.keys;
+  keys.clear();
+  s.foldedEdges();
+  s.tree.pairs(s.nodeBox, s.nodeMotion, [&](int f, int g) {
+    if (degenerate[f] || degenerate[g]) return;  // CGAL leaves them out too
+    if (!CGAL::do_overlap(box[f], box[g])) return;
     const std::array<int, 2> shared = sharedVertex(s.faces[f], s.faces[g]);
     if (shared[0] == -2) return;
+    // The pair's distance is more than either's clearance; the motion of every point of f
+    // relative to every point of g is at most the largest of their vertices'.
+    double relative = 0;
+    for (int i : s.faces[f]) {
+      for (int j : s.faces[g]) relative = std::max(relative, (d[i] - d[j]).squaredNorm());
+    }
+    const std::vector<double>& clearance = shared[0] == -1 ? s.clearance : s.fanClearance;
+    const double larger = std::max(clearance[f], clearance[g]);
+    if (larger > 0 && relative < larger * larger) return;
     if (meetApartFromSharedVertex(p, s.faces[f], s.faces[g], shared))
       keys.push_back(pairKey(f, g));
-  };
-  const CGAL::Box_intersection_d::Box_traits_d<const Box*> traits;
-  std::vector<const Box*> a = pointers(active), q = pointers(quiet);
-  CGAL::box_self_intersection_d(a.begin(), a.end(), test, traits, kBoxCutoff);
-  CGAL::box_intersection_d(a.begin(), a.end(), q.begin(), q.end(), test, traits,
-                           kBoxCutoff);
+  });
   sortUnique(keys);
   std::vector<std::uint64_t> fresh;
   std::set_difference(keys.begin(), keys.end(), s.neutralPairs.begin(), s.neutralPairs.end(),

@@ -16,13 +16,15 @@ namespace mpeg4face::fat {
 // triangles meet other than in the vertex or edge they share. Keys: (smaller triangle << 32)
 // | larger triangle, triangles counted in the order given.
 //
-// A pose can only make new pairs where something moved far enough. Each face gets a clearance
-// from the neutral: less than half its distance to every face that shares no edge with it
-// (for a face sharing one vertex, the distance of each one's opposite edge to the other).
-// Two faces that each moved less than their clearance have not closed the gap between them,
-// so each pose tests exactly (CGAL's predicates) the pairs with a face moved past its
-// clearance, and every pair sharing an edge (one orientation test: they meet only when flat
-// and folded over).
+// A pose can only make a new pair where two triangles moved, relative to one another, as far
+// as they were apart. Each triangle's clearance is just under its distance in the neutral to
+// the nearest triangle that shares no edge with it (kept apart for those sharing a vertex:
+// there the distance of each one's opposite edge to the other); a pair whose vertices moved
+// relative to one another less than the larger of their clearances has not met. A
+// bounding-volume tree, its shape fixed by the neutral and its boxes and motions refit to each
+// pose, skips whole groups of triangles by that rule; the pairs left are tested with CGAL's
+// exact predicates, and every pair sharing an edge with one orientation test (such a pair
+// meets only when flat and folded over).
 class PoseIntersections {
  public:
   // `triangles`: three rows of `neutral` each. They are joined as a CGAL Surface_mesh joins
@@ -36,8 +38,9 @@ class PoseIntersections {
   // The neutral's intersecting pairs, sorted.
   const std::vector<std::uint64_t>& neutralPairs() const;
 
-  // The pose's intersecting pairs that are not the neutral's, sorted.
-  std::vector<std::uint64_t> newPairs(const Points3& pose) const;
+  // The pose's intersecting pairs that are not the neutral's, sorted. Not const: it keeps
+  // its buffers from one pose to the next.
+  std::vector<std::uint64_t> newPairs(const Points3& pose);
 
  private:
   struct Impl;

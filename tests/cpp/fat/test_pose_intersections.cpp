@@ -65,7 +65,7 @@ std::vector<std::uint64_t> newByCgal(const Sheets& s, const Points3& pose,
 
 TEST(PoseIntersections, FindsExactlyTheNewPairsCgalFindsFromSlightToFoldedPoses) {
   const Sheets s = sheets();
-  const PoseIntersections test(s.coord, s.triangles);
+  PoseIntersections test(s.coord, s.triangles);
   EXPECT_EQ(test.neutralPairs(), fat::allIntersectingPairs(s.coord, s.triangles));
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> unit(0, 1);
@@ -96,7 +96,7 @@ TEST(PoseIntersections, FindsExactlyTheNewPairsCgalFindsFromSlightToFoldedPoses)
 
 TEST(PoseIntersections, FindsATriangleFoldedFlatOntoItsNeighbour) {
   const Sheets s = sheets();
-  const PoseIntersections test(s.coord, s.triangles);
+  PoseIntersections test(s.coord, s.triangles);
   // Face (a, d, c) of the flat sheet's first square, a at (40, 0) and d at (41, 1), folded
   // over their diagonal onto (a, b, d): c from (40, 1) to b's side, still in the plane z = 0.
   const int c = s.flat + s.n;
@@ -109,7 +109,7 @@ TEST(PoseIntersections, FindsATriangleFoldedFlatOntoItsNeighbour) {
 
 TEST(PoseIntersections, ARigidMoveOfTheUpperSheetThroughTheLowerIsFound) {
   const Sheets s = sheets();
-  const PoseIntersections test(s.coord, s.triangles);
+  PoseIntersections test(s.coord, s.triangles);
   Points3 pose = s.coord;
   for (int v = s.upper; v < s.upper + s.n * s.n; ++v) pose(v, 2) -= 0.35;
   const std::vector<std::uint64_t> expected = newByCgal(s, pose, test.neutralPairs());
