@@ -216,7 +216,7 @@ class FaceTree {
 
   // Calls `visit(f, g)` once for each pair of faces in leaves whose boxes meet, except where
   // no vertex of two nodes moved relative to one of the other as far as the larger of their
-  // clearances.
+  // clearances (a face without one, < 0, was not measured against the others).
   template <typename Visit>
   void pairs(const std::vector<CGAL::Bbox_3>& nodeBox, const std::vector<Motion>& nodeMotion,
              Visit&& visit) const {
@@ -226,7 +226,8 @@ class FaceTree {
       const auto [a, b] = todo.back();
       todo.pop_back();
       const Motion &ma = nodeMotion[a], &mb = nodeMotion[b];
-      if (ma.radius + mb.radius + (ma.ref - mb.ref).norm() < std::max(clearance_[a], clearance_[b]))
+      if (std::min(clearance_[a], clearance_[b]) >= 0 &&
+          ma.radius + mb.radius + (ma.ref - mb.ref).norm() < std::max(clearance_[a], clearance_[b]))
         continue;
       const Node &na = nodes_[a], &nb = nodes_[b];
       if (a == b) {
@@ -467,7 +468,7 @@ std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
     }
     const std::vector<double>& clearance = shared[0] == -1 ? s.clearance : s.fanClearance;
     const double larger = std::max(clearance[f], clearance[g]);
-    if (larger > 0 && relative < larger * larger) return;
+    if (std::min(clearance[f], clearance[g]) >= 0 && relative < larger * larger) return;
     if (meetApartFromSharedVertex(p, s.faces[f], s.faces[g], shared))
       keys.push_back(pairKey(f, g));
   });

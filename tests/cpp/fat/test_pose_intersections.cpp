@@ -117,4 +117,22 @@ TEST(PoseIntersections, ARigidMoveOfTheUpperSheetThroughTheLowerIsFound) {
   EXPECT_EQ(test.newPairs(pose), expected);
 }
 
+// A triangle flat as a line in the neutral has no clearance to measure against the others; once
+// a pose opens it, it is tested like any other.
+TEST(PoseIntersections, ATriangleDegenerateInTheNeutralIsTestedOnceItOpens) {
+  Sheets s = sheets();
+  const int first = static_cast<int>(s.coord.rows());
+  s.coord.conservativeResize(first + 6, 3);
+  s.coord.bottomRows(6) << 20, 0, 0.5, 21, 0, 0.5, 22, 0, 0.5,  // along a line
+      19, -1, 0, 23, -1, 0, 21, 2, 0;                            // beneath it
+  s.triangles.insert(s.triangles.end(), {first, first + 1, first + 2, first + 3, first + 4,
+                                         first + 5});
+  PoseIntersections test(s.coord, s.triangles);
+  Points3 pose = s.coord;
+  pose(first + 1, 2) = -0.5;  // through the one beneath
+  const std::vector<std::uint64_t> expected = newByCgal(s, pose, test.neutralPairs());
+  ASSERT_EQ(expected.size(), 1u);
+  EXPECT_EQ(test.newPairs(pose), expected);
+}
+
 }  // namespace
