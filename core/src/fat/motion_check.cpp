@@ -6,9 +6,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <optional>
 #include <numbers>
+#include <optional>
 
+#include "fat/pose_intersections.hpp"
 #include "mpeg4face/error.hpp"
 #include "mpeg4face/fat/evaluate.hpp"
 #include "mpeg4face/fat/names.hpp"
@@ -16,7 +17,6 @@
 #include "mpeg4face/model/fapu.hpp"
 #include "mpeg4face/model/surface_bump.hpp"
 #include "mpeg4face/spec.hpp"
-#include "fat/pose_intersections.hpp"
 #include "percentile.hpp"
 
 namespace mpeg4face {
