@@ -6,10 +6,10 @@
 //   bench_motion_check [HEAD.glb [STREAM.fap]]
 #include <algorithm>
 #include <chrono>
-#include <iterator>
-#include <optional>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
+#include <optional>
 #include <vector>
 
 #include "fat/pose_intersections.hpp"
@@ -41,12 +41,7 @@ int intersectionsAgainstBaseline(const mpeg4face::FaceModel& model, int runs) {
       });
   if (largest == model.meshes.end() || largest->morphTargets.empty()) return 0;
   const IndexedFaceSet& mesh = *largest;
-  std::vector<int> triangles;
-  const std::vector<int> all = mesh.triangles();
-  for (std::size_t i = 0; i < all.size(); i += 3) {
-    if (all[i] == all[i + 1] || all[i + 1] == all[i + 2] || all[i] == all[i + 2]) continue;
-    triangles.insert(triangles.end(), all.begin() + i, all.begin() + i + 3);
-  }
+  const std::vector<int> triangles = fat::checkedTriangles(mesh);
   std::vector<Points3> poses;
   for (const MorphTarget& t : mesh.morphTargets) poses.push_back(mesh.coord + t.displacements);
   std::vector<double> prepare, fast, baseline;
@@ -98,15 +93,12 @@ int main(int argc, char** argv) {
       std::vector<double> ms;
       mpeg4face::MotionCheck check;
       for (int i = 0; i < kRuns; ++i) {
-        const auto start = std::chrono::steady_clock::now();
-        check = mpeg4face::checkMotion(
-            model, withStream ? std::span(streams) : std::span<const mpeg4face::FapStream>{});
-        ms.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count());
+        ms.push_back(millisecondsOf([&] {
+          check = mpeg4face::checkMotion(
+              model, withStream ? std::span(streams) : std::span<const mpeg4face::FapStream>{});
+        }));
       }
-      std::nth_element(ms.begin(), ms.begin() + kRuns / 2, ms.end());
-      const double median = ms[kRuns / 2];
+      const double median = medianMs(ms);
       const std::size_t poses = check.keys.size() + check.frames.size();
       std::printf("%s (%ld vertices): %zu keys, %zu frames: %.0f ms (median of %d), %.2f ms/pose\n",
                   head.filename().c_str(), vertices, check.keys.size(), check.frames.size(), median,

@@ -79,12 +79,7 @@ MeshCheck prepareMesh(const FaceModel& model, int m, const std::vector<Eigen::Ve
   const IndexedFaceSet& mesh = model.meshes[m];
   MeshCheck c;
   c.mesh = m;
-  const std::vector<int> all = mesh.triangles();
-  for (std::size_t i = 0; i < all.size(); i += 3) {
-    const int a = all[i], b = all[i + 1], d = all[i + 2];
-    if (a == b || b == d || a == d) continue;
-    c.triangles.insert(c.triangles.end(), {a, b, d});
-  }
+  c.triangles = fat::checkedTriangles(mesh);
   const Points3& coord = mesh.coord;
   const std::size_t triangleCount = c.triangles.size() / 3;
   for (std::size_t t = 0; t < triangleCount; ++t) {

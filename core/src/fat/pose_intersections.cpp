@@ -36,11 +36,14 @@ void sortUnique(std::vector<std::uint64_t>& keys) {
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 }
 
-std::vector<Point> surfacePoints(const Points3& coord, const std::vector<int>& source) {
-  std::vector<Point> points;
-  points.reserve(source.size());
-  for (int row : source) points.emplace_back(coord(row, 0), coord(row, 1), coord(row, 2));
-  return points;
+// The surface's points: surface vertex v at row source[v] of `coord`.
+void surfacePoints(const Points3& coord, const std::vector<int>& source,
+                   std::vector<Point>& points) {
+  points.resize(source.size());
+  for (std::size_t v = 0; v < source.size(); ++v) {
+    const auto row = coord.row(source[v]);
+    points[v] = Point(row[0], row[1], row[2]);
+  }
 }
 
 // Triangles joined into a surface: face t is triangle t, over surface vertices; surface
@@ -342,7 +345,7 @@ PoseIntersections::PoseIntersections(const Points3& neutral, const std::vector<i
   Impl& s = *impl_;
   Joined surface = joined(neutral.rows(), triangles);
   s.source = surface.source;
-  s.neutral = surfacePoints(neutral, s.source);
+  surfacePoints(neutral, s.source, s.neutral);
   s.neutralPairs = intersectingPairs(surface, s.neutral);
   s.faces = std::move(surface.faces);
   const int faceCount = static_cast<int>(s.faces.size());
@@ -431,11 +434,9 @@ std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
   const std::size_t faceCount = s.faces.size();
   std::vector<Point>& p = s.p;
   std::vector<Eigen::Vector3d>& d = s.d;
-  p.resize(s.source.size());
-  d.resize(s.source.size());
+  surfacePoints(pose, s.source, p);
+  d.resize(p.size());
   for (std::size_t v = 0; v < p.size(); ++v) {
-    const auto row = pose.row(s.source[v]);
-    p[v] = Point(row[0], row[1], row[2]);
     d[v] = Eigen::Vector3d(p[v].x() - s.neutral[v].x(), p[v].y() - s.neutral[v].y(),
                            p[v].z() - s.neutral[v].z());
   }
@@ -482,7 +483,20 @@ std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
 std::vector<std::uint64_t> allIntersectingPairs(const Points3& coord,
                                                 const std::vector<int>& triangles) {
   Joined surface = joined(coord.rows(), triangles);
-  return intersectingPairs(surface, surfacePoints(coord, surface.source));
+  std::vector<Point> points;
+  surfacePoints(coord, surface.source, points);
+  return intersectingPairs(surface, points);
+}
+
+std::vector<int> checkedTriangles(const IndexedFaceSet& mesh) {
+  std::vector<int> checked;
+  const std::vector<int> all = mesh.triangles();
+  for (std::size_t i = 0; i + 2 < all.size(); i += 3) {
+    const int a = all[i], b = all[i + 1], c = all[i + 2];
+    if (a == b || b == c || a == c) continue;
+    checked.insert(checked.end(), {a, b, c});
+  }
+  return checked;
 }
 
 }  // namespace mpeg4face::fat

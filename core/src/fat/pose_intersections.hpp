@@ -47,6 +47,10 @@ class PoseIntersections {
   std::unique_ptr<Impl> impl_;
 };
 
+// `mesh`'s triangles (three rows each) without those that name a corner twice: the
+// triangles the motion check measures.
+std::vector<int> checkedTriangles(const IndexedFaceSet& mesh);
+
 // Every intersecting pair of `triangles` at `coord`, sorted: CGAL's self_intersections on the
 // whole mesh (joined as above), the reference the fast test is measured against.
 std::vector<std::uint64_t> allIntersectingPairs(const Points3& coord,

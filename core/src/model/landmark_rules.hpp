@@ -41,8 +41,8 @@ std::vector<Vector3d> normalsOf(const Points3& points, const std::vector<int>& t
 // Moves the points of `result` that have a rule of their own: the midline points onto the
 // head's symmetry plane, the nose tip, the subnasale, the eyelids' 3.1-3.4 and the outer eye
 // corners 3.7 / 3.12 (onto the edge of the eye's opening seen from the front, against the eye
-// in `parts` that holds the pupil). `rotation`
-// turns the template's axes into the target's, `es0` is the target's.
+// in `parts` that holds the pupil). `rotation` turns the template's axes into the target's,
+// `es0` is the target's.
 void refineByRules(const FaceModel& templateHead, const Surface& face,
                    const std::vector<Surface>& parts, const Matrix3d& rotation, double es0,
                    LandmarkResult& result);
