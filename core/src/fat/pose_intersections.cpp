@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <type_traits>
 
 namespace mpeg4face::fat {
 namespace {
@@ -157,29 +158,36 @@ std::vector<const Box*> pointers(const std::vector<Box>& boxes) {
   return out;
 }
 
-// How a face or a group of faces moved: every vertex of it moved within `radius` of `ref`.
-struct Motion {
-  Eigen::Vector3d ref = Eigen::Vector3d::Zero();
-  double radius = 0;
-};
+// How far two groups' vertices moved relative to one another at most, squared, from the boxes
+// their displacements span.
+double squaredRelativeMotion(const CGAL::Bbox_3& a, const CGAL::Bbox_3& b) {
+  double sum = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double m = std::max(a.max(k) - b.min(k), b.max(k) - a.min(k));
+    sum += m * m;
+  }
+  return sum;
+}
 
 // A bounding-volume hierarchy over the faces: its shape fixed once from the neutral (each
-// node split at the median of its longest side), its boxes and motions refit to each pose. A
-// pose moves the faces, not their neighbourhoods, so the shape stays good and a refit costs
-// one pass. Each node keeps the smallest clearance of its faces.
+// node split at the median of its longest side), its boxes refit to each pose. A pose moves
+// the faces, not their neighbourhoods, so the shape stays good and a refit costs one pass.
+// The faces are numbered in the tree's order (`order()`), so a node's faces are a range.
+// Each node keeps the box of its faces, the box their vertices' displacements span, and the
+// smallest clearance of its faces.
 class FaceTree {
  public:
   FaceTree() = default;
-  FaceTree(const std::vector<Point>& p, const Faces& faces, const std::vector<double>& clearance) {
-    std::vector<Eigen::Vector3d> centre;
-    for (const std::array<int, 3>& f : faces) {
-      Eigen::Vector3d c = Eigen::Vector3d::Zero();
-      for (int v : f) c += Eigen::Vector3d(p[v].x(), p[v].y(), p[v].z());
-      centre.push_back(c / 3);
-      order_.push_back(static_cast<int>(order_.size()));
-    }
-    if (order_.empty()) return;
-    split(centre, 0, static_cast<int>(order_.size()));
+  explicit FaceTree(const std::vector<Eigen::Vector3d>& centre) {
+    for (std::size_t f = 0; f < centre.size(); ++f) order_.push_back(static_cast<int>(f));
+    if (!order_.empty()) split(centre, static_cast<int>(order_.size()));
+  }
+
+  // Face i in the tree's order is face order()[i] of those given.
+  const std::vector<int>& order() const { return order_; }
+
+  // Each face's clearance, in the tree's order (< 0: always tested).
+  void setClearances(const std::vector<double>& clearance) {
     clearance_.assign(nodes_.size(), std::numeric_limits<double>::infinity());
     for (std::size_t n = nodes_.size(); n-- > 0;) {
       const Node& node = nodes_[n];
@@ -188,31 +196,28 @@ class FaceTree {
         continue;
       }
       for (int i = node.first; i < node.first + node.count; ++i)
-        clearance_[n] = std::min(clearance_[n], clearance[order_[i]]);
+        clearance_[n] = std::min(clearance_[n], clearance[i]);
     }
   }
 
-  // The nodes' boxes and motions from the faces' (an empty box for a face left out).
-  void refit(const std::vector<CGAL::Bbox_3>& faceBox, const std::vector<Motion>& faceMotion,
-             std::vector<CGAL::Bbox_3>& nodeBox, std::vector<Motion>& nodeMotion) const {
-    nodeBox.assign(nodes_.size(), CGAL::Bbox_3());
-    nodeMotion.assign(nodes_.size(), Motion{});
-    const auto gather = [](Motion& into, const Motion& part) {
-      into.radius = std::max(into.radius, part.radius + (part.ref - into.ref).norm());
-    };
+  // The nodes' boxes and displacement boxes from the faces' (an empty box for a face left
+  // out), faces in the tree's order.
+  void refit(const std::vector<CGAL::Bbox_3>& faceBox, const std::vector<CGAL::Bbox_3>& faceMotion,
+             std::vector<CGAL::Bbox_3>& nodeBox, std::vector<CGAL::Bbox_3>& nodeMotion) const {
+    nodeBox.resize(nodes_.size());
+    nodeMotion.resize(nodes_.size());
     for (std::size_t n = nodes_.size(); n-- > 0;) {
       const Node& node = nodes_[n];
       if (node.left < 0) {
-        nodeMotion[n].ref = faceMotion[order_[node.first]].ref;
+        nodeBox[n] = CGAL::Bbox_3();
+        nodeMotion[n] = CGAL::Bbox_3();
         for (int i = node.first; i < node.first + node.count; ++i) {
-          nodeBox[n] += faceBox[order_[i]];
-          gather(nodeMotion[n], faceMotion[order_[i]]);
+          nodeBox[n] += faceBox[i];
+          nodeMotion[n] += faceMotion[i];
         }
       } else {
         nodeBox[n] = nodeBox[node.left] + nodeBox[node.left + 1];
-        nodeMotion[n].ref = nodeMotion[node.left].ref;
-        gather(nodeMotion[n], nodeMotion[node.left]);
-        gather(nodeMotion[n], nodeMotion[node.left + 1]);
+        nodeMotion[n] = nodeMotion[node.left] + nodeMotion[node.left + 1];
       }
     }
   }
@@ -221,16 +226,16 @@ class FaceTree {
   // no vertex of two nodes moved relative to one of the other as far as the larger of their
   // clearances (a face without one, < 0, was not measured against the others).
   template <typename Visit>
-  void pairs(const std::vector<CGAL::Bbox_3>& nodeBox, const std::vector<Motion>& nodeMotion,
+  void pairs(const std::vector<CGAL::Bbox_3>& nodeBox, const std::vector<CGAL::Bbox_3>& nodeMotion,
              Visit&& visit) const {
     if (nodes_.empty()) return;
     std::vector<std::array<int, 2>> todo{{0, 0}};
     while (!todo.empty()) {
       const auto [a, b] = todo.back();
       todo.pop_back();
-      const Motion &ma = nodeMotion[a], &mb = nodeMotion[b];
+      const double larger = std::max(clearance_[a], clearance_[b]);
       if (std::min(clearance_[a], clearance_[b]) >= 0 &&
-          ma.radius + mb.radius + (ma.ref - mb.ref).norm() < std::max(clearance_[a], clearance_[b]))
+          squaredRelativeMotion(nodeMotion[a], nodeMotion[b]) < larger * larger)
         continue;
       const Node &na = nodes_[a], &nb = nodes_[b];
       if (a == b) {
@@ -241,14 +246,14 @@ class FaceTree {
           continue;
         }
         for (int i = na.first; i < na.first + na.count; ++i) {
-          for (int j = i + 1; j < na.first + na.count; ++j) visit(order_[i], order_[j]);
+          for (int j = i + 1; j < na.first + na.count; ++j) visit(i, j);
         }
         continue;
       }
       if (!CGAL::do_overlap(nodeBox[a], nodeBox[b])) continue;
       if (na.left < 0 && nb.left < 0) {
         for (int i = na.first; i < na.first + na.count; ++i) {
-          for (int j = nb.first; j < nb.first + nb.count; ++j) visit(order_[i], order_[j]);
+          for (int j = nb.first; j < nb.first + nb.count; ++j) visit(i, j);
         }
       } else if (nb.left < 0 || (na.left >= 0 && na.count >= nb.count)) {
         todo.push_back({na.left, b});
@@ -262,18 +267,18 @@ class FaceTree {
 
  private:
   struct Node {
-    int first = 0, count = 0;  // a leaf's faces: order_[first, first + count)
+    int first = 0, count = 0;  // a leaf's faces: [first, first + count) in the tree's order
     int left = -1;             // an inner node's children: left, left + 1
   };
   static constexpr int kLeafFaces = 4;
 
   // Children are stored in pairs after their parent, so a reverse pass meets them first.
-  void split(const std::vector<Eigen::Vector3d>& centre, int first, int count) {
+  void split(const std::vector<Eigen::Vector3d>& centre, int count) {
     struct Range {
       int node, first, count;
     };
-    nodes_.push_back({first, count, -1});
-    std::vector<Range> todo{{0, first, count}};
+    nodes_.push_back({0, count, -1});
+    std::vector<Range> todo{{0, 0, count}};
     while (!todo.empty()) {
       const Range r = todo.back();
       todo.pop_back();
@@ -311,7 +316,8 @@ struct PoseIntersections::Impl {
     int f, g, u, v, apexF, apexG;
   };
 
-  Faces faces;
+  Faces faces;            // in the tree's order
+  std::vector<int> given;  // each face's index among the triangles given
   std::vector<int> source;
   std::vector<Point> neutral;
   std::vector<EdgePair> edgePairs;
@@ -326,8 +332,10 @@ struct PoseIntersections::Impl {
   std::vector<Eigen::Vector3d> d;  // each surface vertex's motion
   std::vector<bool> degenerate;
   std::vector<CGAL::Bbox_3> box, nodeBox;
-  std::vector<Motion> motion, nodeMotion;  // a face's about its first vertex's
+  std::vector<CGAL::Bbox_3> motion, nodeMotion;  // the box a face's vertices' motions span
   std::vector<std::uint64_t> keys;
+
+  void addPair(int f, int g) { keys.push_back(pairKey(given[f], given[g])); }
 
   // The pairs sharing an edge that meet in the pose `p` holds: flat and folded over.
   void foldedEdges() {
@@ -335,7 +343,7 @@ struct PoseIntersections::Impl {
       if (degenerate[e.f] || degenerate[e.g]) continue;
       const Point &u = p[e.u], &v = p[e.v], &r = p[e.apexF], &s = p[e.apexG];
       if (CGAL::coplanar(u, v, r, s) && CGAL::coplanar_orientation(u, v, r, s) == CGAL::POSITIVE)
-        keys.push_back(pairKey(e.f, e.g));
+        addPair(e.f, e.g);
     }
   }
 };
@@ -416,9 +424,33 @@ PoseIntersections::PoseIntersections(const Points3& neutral, const std::vector<i
         of[g] = std::min(of[g], c);
       },
       CGAL::Box_intersection_d::Box_traits_d<const Box*>(), kBoxCutoff);
+
+  // The faces renumbered in the tree's order: a node's faces and their data are then ranges.
+  std::vector<Eigen::Vector3d> centre;
+  for (const std::array<int, 3>& t : s.faces) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int v : t) c += Eigen::Vector3d(s.neutral[v].x(), s.neutral[v].y(), s.neutral[v].z());
+    centre.push_back(c / 3);
+  }
+  s.tree = FaceTree(centre);
+  s.given = s.tree.order();
+  const auto reordered = [&](const auto& values) {
+    std::remove_cvref_t<decltype(values)> out;
+    for (int f : s.given) out.push_back(values[f]);
+    return out;
+  };
+  s.faces = reordered(s.faces);
+  s.clearance = reordered(s.clearance);
+  s.fanClearance = reordered(s.fanClearance);
+  std::vector<int> slot(faceCount);
+  for (int i = 0; i < faceCount; ++i) slot[s.given[i]] = i;
+  for (Impl::EdgePair& e : s.edgePairs) {
+    e.f = slot[e.f];
+    e.g = slot[e.g];
+  }
   std::vector<double> least(faceCount);
   for (int f = 0; f < faceCount; ++f) least[f] = std::min(s.clearance[f], s.fanClearance[f]);
-  s.tree = FaceTree(s.neutral, s.faces, least);
+  s.tree.setClearances(least);
 }
 
 PoseIntersections::~PoseIntersections() = default;
@@ -447,7 +479,9 @@ std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
   s.motion.resize(faceCount);
   for (std::size_t f = 0; f < faceCount; ++f) {
     const std::array<int, 3>& t = s.faces[f];
-    s.motion[f] = {d[t[0]], std::max((d[t[1]] - d[t[0]]).norm(), (d[t[2]] - d[t[0]]).norm())};
+    const Eigen::Vector3d lo = d[t[0]].cwiseMin(d[t[1]]).cwiseMin(d[t[2]]);
+    const Eigen::Vector3d hi = d[t[0]].cwiseMax(d[t[1]]).cwiseMax(d[t[2]]);
+    s.motion[f] = CGAL::Bbox_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
     degenerate[f] = CGAL::collinear(p[t[0]], p[t[1]], p[t[2]]);
     if (!degenerate[f]) box[f] = p[t[0]].bbox() + p[t[1]].bbox() + p[t[2]].bbox();
   }
@@ -462,16 +496,19 @@ std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
     const std::array<int, 2> shared = sharedVertex(s.faces[f], s.faces[g]);
     if (shared[0] == -2) return;
     // The pair's distance is more than either's clearance; the motion of every point of f
-    // relative to every point of g is at most the largest of their vertices'.
-    double relative = 0;
-    for (int i : s.faces[f]) {
-      for (int j : s.faces[g]) relative = std::max(relative, (d[i] - d[j]).squaredNorm());
-    }
+    // relative to every point of g is at most the largest of their vertices' (bounded first
+    // by their boxes).
     const std::vector<double>& clearance = shared[0] == -1 ? s.clearance : s.fanClearance;
     const double larger = std::max(clearance[f], clearance[g]);
-    if (std::min(clearance[f], clearance[g]) >= 0 && relative < larger * larger) return;
-    if (meetApartFromSharedVertex(p, s.faces[f], s.faces[g], shared))
-      keys.push_back(pairKey(f, g));
+    if (std::min(clearance[f], clearance[g]) >= 0) {
+      if (squaredRelativeMotion(s.motion[f], s.motion[g]) < larger * larger) return;
+      double relative = 0;
+      for (int i : s.faces[f]) {
+        for (int j : s.faces[g]) relative = std::max(relative, (d[i] - d[j]).squaredNorm());
+      }
+      if (relative < larger * larger) return;
+    }
+    if (meetApartFromSharedVertex(p, s.faces[f], s.faces[g], shared)) s.addPair(f, g);
   });
   sortUnique(keys);
   std::vector<std::uint64_t> fresh;
