@@ -416,10 +416,19 @@ PoseIntersections::PoseIntersections(const Points3& neutral, const std::vector<i
         const int f = a->info(), g = b->info();
         const std::array<int, 2> shared = sharedVertex(s.faces[f], s.faces[g]);
         if (shared[0] == -2) return;
+        // The faces are at least as far apart as their boxes: a pair that could lower
+        // neither clearance is not measured.
+        std::vector<double>& of = shared[0] < 0 ? s.clearance : s.fanClearance;
+        double boxGap = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double apart = std::max(a->min_coord(k) - b->max_coord(k),
+                                        b->min_coord(k) - a->max_coord(k)) + reach;
+          if (apart > 0) boxGap += apart * apart;
+        }
+        if (share(std::sqrt(boxGap)) >= std::max(of[f], of[g])) return;
         if (std::binary_search(s.neutralPairs.begin(), s.neutralPairs.end(), pairKey(f, g)))
           return;
         const double c = share(gap(s.neutral, s.faces[f], s.faces[g]));
-        std::vector<double>& of = shared[0] < 0 ? s.clearance : s.fanClearance;
         of[f] = std::min(of[f], c);
         of[g] = std::min(of[g], c);
       },
