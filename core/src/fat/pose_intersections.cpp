@@ -483,8 +483,8 @@ std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
   }
   std::vector<bool>& degenerate = s.degenerate;
   std::vector<CGAL::Bbox_3>& box = s.box;
-  degenerate.assign(faceCount, false);
-  box.assign(faceCount, CGAL::Bbox_3());
+  degenerate.resize(faceCount);
+  box.resize(faceCount);
   s.motion.resize(faceCount);
   for (std::size_t f = 0; f < faceCount; ++f) {
     const std::array<int, 3>& t = s.faces[f];
@@ -492,7 +492,7 @@ std::vector<std::uint64_t> PoseIntersections::newPairs(const Points3& pose) {
     const Eigen::Vector3d hi = d[t[0]].cwiseMax(d[t[1]]).cwiseMax(d[t[2]]);
     s.motion[f] = CGAL::Bbox_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
     degenerate[f] = CGAL::collinear(p[t[0]], p[t[1]], p[t[2]]);
-    if (!degenerate[f]) box[f] = p[t[0]].bbox() + p[t[1]].bbox() + p[t[2]].bbox();
+    box[f] = degenerate[f] ? CGAL::Bbox_3() : p[t[0]].bbox() + p[t[1]].bbox() + p[t[2]].bbox();
   }
   s.tree.refit(box, s.motion, s.nodeBox, s.nodeMotion);
 
